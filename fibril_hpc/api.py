@@ -1,0 +1,169 @@
+"""``simulate(scene) -> SimulationResult``: scene -> grid -> model -> load path -> curves.
+
+A solver failure (non-convergence, non-finite values) never escapes as garbage: it is caught here
+and recorded in the result's ``status``/``message`` (per preload, and at top level).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+
+from .errors import NoConvergenceError
+from .loading import CurveRecorder, PathDriver
+from .model import Model, OperatorCache, build_scene_model
+from .results import (STATUS_FAILED, STATUS_OK, Curve, PillarState, PreloadResult,
+                      SimulationResult, software_versions)
+from .scene import Scene
+
+log = logging.getLogger(__name__)
+
+
+def _curve(model: Model, rec: CurveRecorder, start: int = 0, stop: int | None = None) -> Curve:
+    d, F, n_att, n_pil = rec.arrays()
+    sl = slice(start, stop)
+    sc = model.scaling
+    total = max(model.geometry.n_active, 1)
+    return Curve(d[sl] / sc.d_c, F[sl] / sc.F_c, n_att[sl] / total, n_pil[sl])
+
+
+def _pillar_state(model: Model, d, p, att) -> PillarState:
+    g = model.geometry
+    sc = model.scaling
+    att_b = att != 0
+    labels = g.labels
+    f = np.bincount(labels, weights=np.where(att_b, p, 0.0), minlength=g.n_groups) * g.h**2
+    elong = np.zeros_like(f) if model.rigid else f / model.k
+    pressure = g.to_map(np.where(att_b, p, 0.0) * sc.area / sc.F_c).astype(np.float32)
+    return PillarState(force=f / sc.F_c, elongation=elong / sc.d_c,
+                       contact_map=g.to_map(att_b.astype(np.uint8)), pressure_map=pressure,
+                       d_tilde=d / sc.d_c)
+
+
+def discretisation_info(model: Model) -> dict:
+    g = model.geometry
+    grid = model.grid
+    info = {
+        "n_elements": g.n * g.n,
+        "grid_side": g.n,
+        "n_active": g.n_active,
+        "fft_size": model.operator.m,
+        "h": g.h,
+        "phi_discrete": model.scaling.phi,
+        "sigma_c": model.sigma_c,
+        "footprint": "odd pitch, pillar centre on an element centre, element in pillar iff its "
+                     "centre is within the nominal radius D/2",
+    }
+    if grid is not None:
+        info.update({
+            "pitch_elements": grid.pitch,
+            "elements_per_pillar": grid.elements_per_pillar,
+            "elements_per_diameter": 2.0 * grid.r_eq / g.h,
+            "r_eq_over_pitch": grid.r_eq / (grid.pitch * g.h),
+        })
+    return info
+
+
+def _run_preloads(model: Model, scene: Scene, driver: PathDriver) -> list[PreloadResult]:
+    sc = model.scaling
+    kind = scene.preload_kind
+    values = list(scene.preloads)
+    if kind == "d_tilde":
+        targets = [v * sc.d_c for v in values]
+        load_kind = "d"
+    else:
+        targets = [v * sc.F_c for v in values]
+        load_kind = "F"
+    loading = CurveRecorder()
+    out = []
+    try:
+        snaps = driver.load(targets, load_kind, loading)
+    except NoConvergenceError as exc:
+        return [PreloadResult(kind, v, STATUS_FAILED, f"loading: {exc}") for v in values]
+    for value, snap in zip(values, snaps):
+        res = PreloadResult(kind, value, STATUS_OK)
+        res.loading = _curve(model, loading, 0, snap.n_points)
+        res.d_tilde_max = snap.d / sc.d_c
+        res.F_P = float(res.loading.F_tilde[-1])
+        res.n_pillars_in_contact_max = int(res.loading.n_pillars_in_contact.max())
+        res.at_preload = _pillar_state(model, snap.d, snap.p, snap.att)
+        if not model.adhesion:
+            # Frictionless, non-adhesive contact is path independent: unloading retraces loading.
+            res.unloading = res.loading.reversed()
+            res.F_A = 0.0
+            res.d_tilde_at_F_A = math.nan
+            res.at_pulloff = None
+            res.let_go_d_tilde = None
+            res.message = "non-adhesive: the unloading branch retraces the loading branch"
+        else:
+            try:
+                br = driver.unload(snap)
+            except NoConvergenceError as exc:
+                res.status = STATUS_FAILED
+                res.message = f"unloading: {exc}"
+                out.append(res)
+                continue
+            res.unloading = _curve(model, br.curve)
+            res.F_A = max(0.0, -br.F_min / sc.F_c)
+            res.d_tilde_at_F_A = br.d_at_F_min / sc.d_c
+            res.at_pulloff = _pillar_state(model, br.d_at_F_min, br.p_at_min, br.att_at_min)
+            res.let_go_d_tilde = br.let_go_d / sc.d_c
+            res.events = br.events
+        finite = all(np.all(np.isfinite(c.F_tilde)) for c in (res.loading, res.unloading))
+        if not (finite and math.isfinite(res.F_A) and math.isfinite(res.F_P)):
+            res.status = STATUS_FAILED
+            res.message = "non-finite values in the curve"
+        out.append(res)
+    return out
+
+
+def simulate(scene: Scene, *, model: Model | None = None,
+             operators: OperatorCache | None = None) -> SimulationResult:
+    """Simulate one scene: load to every preload along one loading path, pull off from each.
+
+    Parameters
+    ----------
+    scene : Scene
+        The validated scene.
+    model : Model, optional
+        A model built by :func:`~fibril_hpc.model.build_scene_model` for this very scene.
+    operators : OperatorCache, optional
+        Reuse FFT plans and the kernel transform across scenes on the same grid (campaigns).
+
+    Returns
+    -------
+    SimulationResult
+        ``status`` is ``"ok"`` when every preload succeeded, else ``"failed"`` with the reason.
+    """
+    t0 = time.perf_counter()
+    if model is None:
+        model = build_scene_model(scene, operators)
+    it0, pairs0, solves0 = model.solver.iterations, model.fft_pairs, model.solver.solves
+    driver = PathDriver(model)
+    results = _run_preloads(model, scene, driver)
+    failed = [r for r in results if r.status != STATUS_OK]
+    status = STATUS_FAILED if failed else STATUS_OK
+    message = "; ".join(f"{r.preload_kind}={r.preload:g}: {r.message}" for r in failed)
+    if not failed and results and results[-1].n_pillars_in_contact_max == 0:
+        message = "the preload touches no pillar"
+    sc = model.scaling
+    grid = model.grid
+    res = SimulationResult(
+        scene=scene, status=status, message=message, results=results,
+        discretisation=discretisation_info(model),
+        xi=None if grid is None else grid.xi.copy(),
+        zeta_tilde=None if grid is None else grid.zeta / sc.d_c,
+        versions=software_versions(), definitions=sc.definitions())
+    res.stats = {
+        "wall_s": time.perf_counter() - t0,
+        "cg_iterations": model.solver.iterations - it0,
+        "cg_solves": model.solver.solves - solves0,
+        "fft_pairs": model.fft_pairs - pairs0,
+        "events": driver.events,
+    }
+    if status == STATUS_FAILED:
+        log.warning("simulation failed: %s", message)
+    return res

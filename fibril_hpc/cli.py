@@ -1,0 +1,115 @@
+"""Command-line entry points. A user mistake is one line on stderr, exit status 2, nothing written."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+
+from .errors import ConfigError, StoreError
+
+EXIT_USAGE = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports errors as one line and exit status 2."""
+
+    def error(self, message):  # noqa: D401
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
+
+
+def _versions_text() -> str:
+    from .results import software_versions
+
+    v = software_versions()
+    return " ".join(f"{k}={v[k]}" for k in ("fibril_hpc", "numpy", "numba", "pyfftw", "fftw",
+                                            "h5py", "hdf5", "python")) + f"\nrng: {v['rng']}"
+
+
+def _human(result) -> str:
+    lines = []
+    d = result.discretisation
+    s = result.scene
+    lines.append(f"fibril-run: {s.n_side}x{s.n_side} pillars, phi={s.phi:g} "
+                 f"(discrete {d['phi_discrete']:.4f}), k~={s.k_tilde:g}, sigma~={s.sigma_tilde:g}, "
+                 f"seed={s.seed}, adhesion={'yes' if s.adhesion else 'no'}")
+    lines.append(f"  grid {d['grid_side']}^2 (FFT {d['fft_size']}^2), "
+                 f"{d.get('elements_per_diameter', float('nan')):.2f} elements per pillar diameter, "
+                 f"{d['n_active']} pillar elements")
+    for r in result.results:
+        if r.status == "ok":
+            lines.append(f"  {r.preload_kind}={r.preload:g}: F~_P={r.F_P:.4f} at d~={r.d_tilde_max:.4f}, "
+                         f"F~_A={r.F_A:.4f} at d~={r.d_tilde_at_F_A:.4f}, "
+                         f"pillars in contact max {r.n_pillars_in_contact_max}")
+        else:
+            lines.append(f"  {r.preload_kind}={r.preload:g}: FAILED: {r.message}")
+    st = result.stats
+    lines.append(f"  status {result.status}; {st['wall_s']:.2f} s, {st['cg_iterations']} CG "
+                 f"iterations, {st['fft_pairs']} FFT pairs, {st['events']} events")
+    return "\n".join(lines)
+
+
+def run_main(argv=None) -> int:
+    """``fibril-run``: simulate one scene."""
+    from . import __version__
+
+    p = _Parser(prog="fibril-run", description="Simulate the pull-off of one pillar-array scene.")
+    p.add_argument("scene", nargs="?", help="scene YAML file")
+    p.add_argument("--builtin", metavar="NAME",
+                   help="run a built-in scene instead: default, quick, single-pillar")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--out", metavar="FILE.h5", help="write the full result to HDF5")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the curves and contact maps")
+    p.add_argument("--version", action="store_true", help="print versions and exit")
+    p.add_argument("-v", "--verbose", action="store_true")
+    args = p.parse_args(argv)
+    if args.version:
+        print(f"fibril-hpc {__version__}\n{_versions_text()}")
+        return 0
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        format="%(levelname)s %(name)s: %(message)s")
+    try:
+        from .config import builtin_scene, load_scene
+        from .store import check_writable
+
+        if (args.scene is None) == (args.builtin is None):
+            raise ConfigError("scene", args.scene, "a scene YAML path or --builtin NAME (one of them)")
+        scene = builtin_scene(args.builtin) if args.builtin else load_scene(args.scene)
+        if args.out:
+            check_writable(args.out, "--out")
+        if args.plot:
+            check_writable(args.plot, "--plot")
+    except ConfigError as exc:
+        print(f"fibril-run: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    from .api import simulate
+
+    result = simulate(scene)
+    try:
+        if args.out:
+            from .store import write_result_file
+
+            write_result_file(args.out, result)
+        if args.plot:
+            from .plot import plot_result
+
+            plot_result(result, args.plot)
+    except StoreError as exc:
+        print(f"fibril-run: error: {exc}", file=sys.stderr)
+        return 1
+    if args.json:
+        print(json.dumps(result.summary()))
+    else:
+        print(_human(result))
+    return 0 if result.status == "ok" else 1
+
+
+def _entry(fn):
+    def main():
+        sys.exit(fn())
+    return main
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(run_main())

@@ -1,0 +1,101 @@
+"""Love's influence coefficients and the transformed, zero-padded kernel (physics.md §3).
+
+Pure functions: no plans, no state. The displacement at the centre of an element at offset
+(X, Y) from a square element of side h carrying unit uniform pressure is (Love 1929)
+
+    K(X, Y) = 1/(pi E*) [F(X+a, Y+a) - F(X+a, Y-a) - F(X-a, Y+a) + F(X-a, Y-a)],  a = h/2,
+    F(xi, eta) = xi ln(eta + r) + eta ln(xi + r),  r = sqrt(xi^2 + eta^2).
+
+It is evaluated at |X|, |Y| in an asinh form: ln(eta + r) = asinh(eta/|xi|) + ln|xi|, and the
+ln|xi| (ln|eta|) parts cancel exactly between the pairs of terms sharing xi (eta), which removes the
+catastrophic cancellation of the naive formula at large offsets.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .scaling import E_STAR
+
+#: K(0, 0) in units of h/E*: (4/pi) ln(1 + sqrt 2)
+K00 = 4.0 / math.pi * math.log(1.0 + math.sqrt(2.0))
+
+
+def _g(xi, eta):
+    """xi asinh(eta/|xi|) + eta asinh(xi/|eta|), with the xi -> 0 and eta -> 0 limits (0)."""
+    axi = np.abs(xi)
+    aeta = np.abs(eta)
+    t1 = np.where(axi > 0, xi * np.arcsinh(eta / np.where(axi > 0, axi, 1.0)), 0.0)
+    t2 = np.where(aeta > 0, eta * np.arcsinh(xi / np.where(aeta > 0, aeta, 1.0)), 0.0)
+    return t1 + t2
+
+
+def love(x, y, h, e_star=E_STAR):
+    """Surface displacement at offset (x, y) due to unit pressure on an h x h square.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Offsets between element centres (any sign; K is even in both).
+    h : float
+        Element side.
+    e_star : float
+        Contact modulus E*.
+
+    Returns
+    -------
+    ndarray
+        K(x, y) (length / (pressure) units: u = K p).
+    """
+    x = np.abs(np.asarray(x, dtype=np.float64))
+    y = np.abs(np.asarray(y, dtype=np.float64))
+    a = 0.5 * h
+    s = _g(x + a, y + a) - _g(x + a, y - a) - _g(x - a, y + a) + _g(x - a, y - a)
+    return s / (math.pi * e_star)
+
+
+def padded_size(n: int) -> int:
+    """Smallest 2^a 3^b 5^c 7^d >= 2n - 1: the FFT size of the non-periodic product on n x n."""
+    need = 2 * n - 1
+    best = None
+    p2 = 1
+    while p2 < 2 * need:
+        p3 = p2
+        while p3 < 2 * need:
+            p5 = p3
+            while p5 < 2 * need:
+                p7 = p5
+                while p7 < 2 * need:
+                    if p7 >= need and (best is None or p7 < best):
+                        best = p7
+                    p7 *= 7
+                p5 *= 5
+            p3 *= 3
+        p2 *= 2
+    return best
+
+
+def wrapped_kernel(n: int, m: int, h: float, e_star=E_STAR) -> np.ndarray:
+    """Love's kernel sampled on an m x m grid with wrapped offsets min(i, m - i) h.
+
+    With m >= 2n - 1 the circular convolution with this kernel equals the linear
+    (non-periodic) one on the n x n corner. The kernel is even in both axes, so its transform is
+    real.
+    """
+    if m < 2 * n - 1:
+        raise ValueError(f"padded size {m} < 2n-1 = {2 * n - 1}")
+    i = np.arange(m)
+    off = np.minimum(i, m - i) * h
+    return love(off[:, None], off[None, :], h, e_star)
+
+
+def kernel_spectrum(n: int, m: int, h: float, e_star=E_STAR) -> np.ndarray:
+    """Real transform of the wrapped kernel, divided by m*m (folds the unnormalised inverse FFT).
+
+    Shape (m, m//2 + 1), float64 (the imaginary part is zero to rounding and is dropped).
+    """
+    k = wrapped_kernel(n, m, h, e_star)
+    spec = np.fft.rfft2(k)
+    return np.ascontiguousarray(spec.real / (m * m))

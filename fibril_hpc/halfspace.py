@@ -1,0 +1,59 @@
+"""The non-periodic Boussinesq operator u = K * p restricted to the elements that can touch.
+
+The object owns its FFT pair (plans + aligned buffers) and the transformed kernel, built once per
+grid and reused for every product. A product scatters the active pressures into the zero-padded
+real buffer (entries outside the active set are never written and stay zero), does one forward
+transform, one real multiply by K^ and one backward transform, and gathers the active
+displacements: one FFT pair per product.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .fft import FFTPair
+from .greens import K00, kernel_spectrum, padded_size
+from .scaling import E_STAR
+
+
+class HalfSpace:
+    """u_i = sum_j K(x_i - x_j) p_j over the active elements of a :class:`Geometry`.
+
+    Parameters
+    ----------
+    geometry : Geometry
+    backend, threads, planner :
+        Passed to :class:`~fibril_hpc.fft.FFTPair`.
+    """
+
+    def __init__(self, geometry, backend="pyfftw", threads=1, planner="estimate"):
+        self.geometry = geometry
+        self.m = padded_size(geometry.n)
+        self.pair = FFTPair(self.m, backend=backend, threads=threads, planner=planner)
+        self.kernel_hat = kernel_spectrum(geometry.n, self.m, geometry.h)
+        self._idx = (geometry.iy * self.m + geometry.ix).astype(np.int64)
+        self._rin = self.pair.real_in.reshape(-1)
+        self._rout = self.pair.real_out.reshape(-1)
+        self.c0 = K00 * geometry.h / E_STAR   # self-influence K(0, 0)
+
+    @property
+    def n_pairs(self) -> int:
+        return self.pair.n_pairs
+
+    def apply(self, p: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """out <- K p on the active elements (one FFT pair)."""
+        self._rin[self._idx] = p
+        self.pair.forward()
+        np.multiply(self.pair.spectrum, self.kernel_hat, out=self.pair.spectrum)
+        self.pair.backward()
+        np.take(self._rout, self._idx, out=out)
+        return out
+
+    def dense(self) -> np.ndarray:
+        """Dense influence matrix on the active elements (small grids, tests only)."""
+        from .greens import love
+
+        g = self.geometry
+        x = g.ix * g.h
+        y = g.iy * g.h
+        return love(x[:, None] - x[None, :], y[:, None] - y[None, :], g.h)

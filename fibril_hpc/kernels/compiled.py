@@ -1,0 +1,245 @@
+"""Numba kernels (one jit policy: nopython, cache=True, no fastmath: float64 reference-exact).
+
+See :mod:`fibril_hpc.kernels.reference` for the NumPy twin of each kernel and its documentation.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+jit = nb.njit(cache=True, nogil=True, fastmath=False)
+
+
+@jit
+def group_sums(x, att, starts, out):
+    """out[g] = sum of x over the attached elements of group g."""
+    for g in range(len(starts) - 1):
+        s = 0.0
+        for i in range(starts[g], starts[g + 1]):
+            if att[i]:
+                s += x[i]
+        out[g] = s
+
+
+@jit
+def group_counts(att, starts, out):
+    """out[g] = number of attached elements of group g."""
+    for g in range(len(starts) - 1):
+        c = 0
+        for i in range(starts[g], starts[g + 1]):
+            if att[i]:
+                c += 1
+        out[g] = c
+
+
+@jit
+def residual(b, u, x, att, starts, alpha, r):
+    """r = b - (u + alpha B B^T x) on S, 0 elsewhere. Returns ||r||^2 (alpha = 0: rigid)."""
+    rr = 0.0
+    for g in range(len(starts) - 1):
+        s = 0.0
+        if alpha != 0.0:
+            for i in range(starts[g], starts[g + 1]):
+                if att[i]:
+                    s += x[i]
+        s *= alpha
+        for i in range(starts[g], starts[g + 1]):
+            if att[i]:
+                v = b[i] - u[i] - s
+                r[i] = v
+                rr += v * v
+            else:
+                r[i] = 0.0
+    return rr
+
+
+@jit
+def apply_springs(kd, d, att, starts, alpha, q):
+    """q = (K d + alpha B B^T d) on S, 0 elsewhere. Returns d.q."""
+    dq = 0.0
+    for g in range(len(starts) - 1):
+        s = 0.0
+        if alpha != 0.0:
+            for i in range(starts[g], starts[g + 1]):
+                if att[i]:
+                    s += d[i]
+        s *= alpha
+        for i in range(starts[g], starts[g + 1]):
+            if att[i]:
+                v = kd[i] + s
+                q[i] = v
+                dq += d[i] * v
+            else:
+                q[i] = 0.0
+    return dq
+
+
+@jit
+def precondition(r, att, starts, alpha, c0, z):
+    """z = P^-1 r, P = c0 I + alpha B B^T (Sherman-Morrison per group). Returns r.z."""
+    rz = 0.0
+    inv = 1.0 / c0
+    for g in range(len(starts) - 1):
+        corr = 0.0
+        if alpha != 0.0:
+            s = 0.0
+            m = 0
+            for i in range(starts[g], starts[g + 1]):
+                if att[i]:
+                    s += r[i]
+                    m += 1
+            if m > 0:
+                corr = alpha * s / (c0 * (c0 + alpha * m))
+        for i in range(starts[g], starts[g + 1]):
+            if att[i]:
+                v = r[i] * inv - corr
+                z[i] = v
+                rz += r[i] * v
+            else:
+                z[i] = 0.0
+    return rz
+
+
+@jit
+def cg_step(x, u, r, d, kd, q, a, att):
+    """x += a d, u += a K d (every element), r -= a q (on S). Returns (||r||^2, ||u_S||^2)."""
+    rr = 0.0
+    uu = 0.0
+    for i in range(len(x)):
+        u[i] += a * kd[i]
+        if att[i]:
+            x[i] += a * d[i]
+            v = r[i] - a * q[i]
+            r[i] = v
+            rr += v * v
+            uu += u[i] * u[i]
+    return rr, uu
+
+
+@jit
+def cg_direction(z, d, beta):
+    """d = z + beta d."""
+    for i in range(len(d)):
+        d[i] = z[i] + beta * d[i]
+
+
+@jit
+def masked_norm2(v, att):
+    """||v_S||^2."""
+    s = 0.0
+    for i in range(len(v)):
+        if att[i]:
+            s += v[i] * v[i]
+    return s
+
+
+@jit
+def gaps(u, starts, z0, zcoef, d, dl, g):
+    """g_i = u_i - (d - zcoef z0_i - dl[group(i)]): the gap between surface and tip."""
+    for grp in range(len(starts) - 1):
+        t = d - dl[grp]
+        for i in range(starts[grp], starts[grp + 1]):
+            g[i] = u[i] - (t - zcoef * z0[i])
+
+
+@jit
+def event_distance(p, p1, g, g1, att, sigma_c, sgn):
+    """Smallest distance D >= 0 along d -> d + sgn D at which, on the current set S,
+    an attached element reaches p = -sigma_c or a free element's gap closes. inf if none."""
+    best = np.inf
+    for i in range(len(p)):
+        if att[i]:
+            rate = sgn * p1[i]
+            if rate < 0.0:
+                dist = (p[i] + sigma_c) / (-rate)
+                if dist < best:
+                    best = dist
+        else:
+            rate = sgn * g1[i]
+            if rate < 0.0:
+                dist = g[i] / (-rate)
+                if dist < best:
+                    best = dist
+    if best < 0.0:
+        best = 0.0
+    return best
+
+
+@jit
+def last_event_within(p, p1, g, g1, att, sigma_c, sgn, limit):
+    """Largest event distance that is <= limit (0 if none): the end of a batch of events."""
+    last = 0.0
+    for i in range(len(p)):
+        if att[i]:
+            rate = sgn * p1[i]
+            num = p[i] + sigma_c
+        else:
+            rate = sgn * g1[i]
+            num = g[i]
+        if rate < 0.0 and num <= limit * (-rate):
+            dist = num / (-rate)
+            if dist > last:
+                last = dist
+    return last
+
+
+@jit
+def flip_events(p, p1, g, g1, att, sigma_c, sgn, limit):
+    """Flip every element whose event distance is <= limit: attached ones detach (p = 0), free
+    ones attach (p = 0). Returns (n_detached, n_attached)."""
+    nd = 0
+    na = 0
+    for i in range(len(p)):
+        if att[i]:
+            rate = sgn * p1[i]
+            if rate < 0.0 and (p[i] + sigma_c) <= limit * (-rate):
+                att[i] = 0
+                p[i] = 0.0
+                nd += 1
+        else:
+            rate = sgn * g1[i]
+            if rate < 0.0 and g[i] <= limit * (-rate):
+                att[i] = 1
+                p[i] = 0.0
+                na += 1
+    return nd, na
+
+
+@jit
+def update_contact_set(p, g, att, starts, sigma_c, tol_p, tol_g, worst_only):
+    """One pass of the contact-set update at fixed d.
+
+    Attached elements with p < -(sigma_c + tol_p) detach (all of them, or with ``worst_only`` the
+    most supercritical one per group); free elements with g < -tol_g attach at zero stress.
+    Returns (n_detached, n_attached).
+    """
+    nd = 0
+    na = 0
+    thr = -(sigma_c + tol_p)
+    for grp in range(len(starts) - 1):
+        worst = -1
+        wv = thr
+        for i in range(starts[grp], starts[grp + 1]):
+            if att[i]:
+                if p[i] < thr:
+                    if worst_only:
+                        if p[i] < wv:
+                            wv = p[i]
+                            worst = i
+                    else:
+                        att[i] = 0
+                        p[i] = 0.0
+                        nd += 1
+            elif g[i] < -tol_g:
+                att[i] = 2      # mark: attach after the scan (do not detach it in this pass)
+                na += 1
+        if worst >= 0:
+            att[worst] = 0
+            p[worst] = 0.0
+            nd += 1
+        for i in range(starts[grp], starts[grp + 1]):
+            if att[i] == 2:
+                att[i] = 1
+                p[i] = 0.0
+    return nd, na

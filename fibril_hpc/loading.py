@@ -1,0 +1,306 @@
+"""Displacement-controlled loading to the preload(s), then pull-off until complete detachment.
+
+The driver is event-driven (physics.md §5): on a fixed attached set S the solution is affine in the
+plate displacement d, p(d) = p + (d - d0) p1 with A p1 = 1_S, and so are the tip forces and the
+gaps of free elements. From a consistent state the driver therefore
+
+1. solves once for the direction p1 (and u1 = K p1, f1, g1) on the current set,
+2. finds exactly the next event along the path: an attached element reaching p = -sigma_c, or a
+   free element's gap closing (or the target: a preload d or force F_P),
+3. moves there without solving, records the pre-event point (exact: this is where the force
+   minimum of a segment lies), flips the element(s) whose events fall within ``event_merge``
+   (``load_event_merge`` while loading) as one batch,
+4. relaxes at that d: solve on the new set, detach every supercritical element and attach every
+   penetrating one (the reference policy), repeat until the set stops changing,
+5. records the post-event point and goes back to 1.
+
+The recorded curve is therefore the exact piecewise-affine path (to the CG tolerance), with
+vertical jumps at events, and F_A = -min F is located without blind stepping. The loading path
+does not depend on where it stops: all preloads of a scene are snapshots of one loading path, and
+each unloading branch starts from its snapshot (with its direction already solved).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import NoConvergenceError
+from .kernels import compiled as kern
+
+_MAX_RELAX_PASSES = 100_000
+
+
+@dataclass
+class CurveRecorder:
+    """Points (d, F, contact elements, pillars in contact) in internal units."""
+
+    d: list = field(default_factory=list)
+    F: list = field(default_factory=list)
+    n_attached: list = field(default_factory=list)
+    n_pillars: list = field(default_factory=list)
+
+    def add(self, d, F, n_att, n_pil):
+        self.d.append(d)
+        self.F.append(F)
+        self.n_attached.append(n_att)
+        self.n_pillars.append(n_pil)
+
+    def arrays(self):
+        return (np.asarray(self.d, float), np.asarray(self.F, float),
+                np.asarray(self.n_attached, np.int64), np.asarray(self.n_pillars, np.int64))
+
+
+@dataclass
+class Snapshot:
+    """A consistent state with its direction (enough to resume the path without a solve)."""
+
+    d: float
+    p: np.ndarray
+    u: np.ndarray
+    att: np.ndarray
+    p1: np.ndarray
+    u1: np.ndarray
+    n_points: int           # loading-curve points recorded up to this state
+
+
+@dataclass
+class BranchResult:
+    """Unloading branch from one preload."""
+
+    curve: CurveRecorder
+    F_min: float
+    d_at_F_min: float
+    f_at_min: np.ndarray        # per-group tip force at the force minimum
+    p_at_min: np.ndarray
+    att_at_min: np.ndarray
+    let_go_d: np.ndarray        # last d at which each group lost its last attached element (nan: never attached)
+    events: int
+
+
+class PathDriver:
+    """Owns the mutable state of one load path on a :class:`~fibril_hpc.model.Model`."""
+
+    def __init__(self, model):
+        self.model = model
+        g = model.geometry
+        self.starts = g.starts
+        self.z0 = g.z0
+        self.h2 = g.h * g.h
+        self.inv_k = 0.0 if model.rigid else 1.0 / model.k
+        n, ng = g.n_active, g.n_groups
+        self.d = 0.0
+        self.p = np.zeros(n)
+        self.u = np.zeros(n)
+        self.att = np.zeros(n, dtype=np.uint8)
+        self.g = np.zeros(n)
+        self.f = np.zeros(ng)
+        self.p1 = np.zeros(n)
+        self.u1 = np.zeros(n)
+        self.g1 = np.zeros(n)
+        self.f1 = np.zeros(ng)
+        self.counts = np.zeros(ng, dtype=np.int64)
+        self._b = np.empty(n)
+        self._ones = np.ones(n)
+        self._dl = np.zeros(ng)
+        self.events = 0
+        opts = model.options
+        d_c = model.scaling.d_c
+        self.merge = {-1.0: opts.event_merge * d_c, +1.0: opts.load_event_merge * d_c}
+        self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
+        self.tol_g = 1e3 * opts.cg_tol * d_c
+        self.worst_only = opts.detach_policy == "worst"
+
+    # -- derived quantities ---------------------------------------------------------------
+    def _forces(self, p, out):
+        kern.group_sums(p, self.att, self.starts, out)
+        out *= self.h2
+
+    def _gaps(self, u, f, d, zcoef, out):
+        np.multiply(f, self.inv_k, out=self._dl)
+        kern.gaps(u, self.starts, self.z0, zcoef, d, self._dl, out)
+
+    def force(self) -> float:
+        return float(self.f.sum())
+
+    def n_attached(self) -> int:
+        return int(np.count_nonzero(self.att))
+
+    def pillars_in_contact(self) -> int:
+        kern.group_counts(self.att, self.starts, self.counts)
+        return int(np.count_nonzero(self.counts))
+
+    def record(self, curve: CurveRecorder):
+        curve.add(self.d, self.force(), self.n_attached(), self.pillars_in_contact())
+
+    # -- solves -----------------------------------------------------------------------------
+    def relax(self):
+        """Solve at fixed d and update the contact set until it stops changing.
+
+        The first pass solves at the full ``cg_tol``; once the set changes, the passes in the
+        middle of the cascade solve to ``relax_tol`` (looser), a set that is stable at that
+        tolerance is confirmed by a solve at ``cg_tol``, and only a set stable at full tolerance
+        ends the relaxation.
+        """
+        m = self.model
+        np.subtract(self.d, self.z0, out=self._b)
+        loose = max(m.options.relax_tol, m.options.cg_tol)
+        tight = True
+        for _ in range(_MAX_RELAX_PASSES):
+            m.solver.solve(self.att, self._b, self.p, self.u, None if tight else loose)
+            self._forces(self.p, self.f)
+            self._gaps(self.u, self.f, self.d, 1.0, self.g)
+            nd, na = kern.update_contact_set(self.p, self.g, self.att, self.starts, m.sigma_c,
+                                             self.tol_p, self.tol_g, self.worst_only)
+            if nd == 0 and na == 0:
+                if tight:
+                    return
+                tight = True        # confirm at full tolerance
+            elif loose != m.options.cg_tol:
+                tight = False
+        raise NoConvergenceError(f"contact set did not settle in {_MAX_RELAX_PASSES} passes "
+                                 f"at d = {self.d:.6g}")
+
+    def solve_direction(self):
+        """p1 = A^-1 1_S, u1 = K p1, f1, g1 on the current set."""
+        self.p1[self.att == 0] = 0.0
+        if self.att.any():
+            self.model.solver.solve(self.att, self._ones, self.p1, self.u1)
+        else:
+            self.u1[:] = 0.0
+        self._forces(self.p1, self.f1)
+        self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
+
+    def move(self, dist: float, sgn: float):
+        """Move along the affine path of the current set (no solve)."""
+        s = sgn * dist
+        if s == 0.0:
+            return
+        self.d += s
+        self.p += s * self.p1
+        self.u += s * self.u1
+        self.f += s * self.f1
+        self.g += s * self.g1
+
+    def next_event(self, sgn: float) -> float:
+        return kern.event_distance(self.p, self.p1, self.g, self.g1, self.att,
+                                   self.model.sigma_c, sgn)
+
+    def _count_event(self):
+        self.events += 1
+        if self.events > self.model.options.max_events:
+            raise NoConvergenceError(f"more than {self.model.options.max_events} contact events "
+                                     "along one path (solver.max_events)")
+
+    def snapshot(self, n_points: int) -> Snapshot:
+        return Snapshot(self.d, self.p.copy(), self.u.copy(), self.att.copy(), self.p1.copy(),
+                        self.u1.copy(), n_points)
+
+    def restore(self, snap: Snapshot):
+        self.d = snap.d
+        self.p[:] = snap.p
+        self.u[:] = snap.u
+        self.att[:] = snap.att
+        self.p1[:] = snap.p1
+        self.u1[:] = snap.u1
+        self._forces(self.p, self.f)
+        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+        self._forces(self.p1, self.f1)
+        self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
+
+    def _step(self, sgn, dist, curve, on_point=None, limit=math.inf):
+        """Advance through the next batch of events and re-equilibrate.
+
+        Moves to the first event (distance ``dist``) and records that exact pre-event point; the
+        events within ``event_merge`` after it form one batch: the path moves on to the last of
+        them on the old set, every element whose event has been reached flips (attached ones at
+        p <= -sigma_c detach, free ones with a closed gap attach: no attraction across a gap), the
+        set is relaxed, the post-event point recorded and the direction re-solved. The batch never
+        goes beyond ``limit`` (distance from the current position, e.g. to a preload).
+        """
+        self.move(dist, sgn)
+        self.record(curve)
+        if on_point is not None:
+            on_point()
+        last = kern.last_event_within(self.p, self.p1, self.g, self.g1, self.att,
+                                      self.model.sigma_c, sgn, self.merge[sgn])
+        self.move(min(last, max(limit - dist, 0.0)), sgn)
+        # elements at their event (to rounding): remaining distance <= a hair
+        hair = 1e-12 * self.model.scaling.d_c + 1e-12 * (abs(dist) + last)
+        if kern.flip_events(self.p, self.p1, self.g, self.g1, self.att, self.model.sigma_c,
+                            sgn, hair) == (0, 0):
+            raise NoConvergenceError(f"no element flipped at a located event (d = {self.d:.6g})")
+        self._count_event()
+        self.relax()
+        self.record(curve)
+        if on_point is not None:
+            on_point()
+        self.solve_direction()
+
+    # -- paths ------------------------------------------------------------------------------
+    def load(self, targets, kind: str, curve: CurveRecorder) -> list[Snapshot]:
+        """Load from no contact through every target (sorted ascending); snapshot at each.
+
+        kind is ``"d"`` (plate displacement, internal units) or ``"F"`` (force, internal units).
+        """
+        start = min(0.0, targets[0]) if kind == "d" else 0.0
+        self.d = start
+        self.p[:] = 0.0
+        self.att[:] = 0
+        self.u[:] = 0.0
+        self._forces(self.p, self.f)
+        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+        self.solve_direction()
+        self.record(curve)
+        snaps = []
+        for target in targets:
+            while True:
+                dist = self.next_event(+1.0)
+                if kind == "d":
+                    to_target = target - self.d
+                else:
+                    f1 = float(self.f1.sum())
+                    to_target = (target - self.force()) / f1 if f1 > 0 else math.inf
+                to_target = max(to_target, 0.0)
+                if to_target <= dist:
+                    if not math.isfinite(to_target):
+                        raise NoConvergenceError("loading path has no further event and never "
+                                                 "reaches the preload")
+                    self.move(to_target, +1.0)
+                    self.record(curve)
+                    snaps.append(self.snapshot(len(curve.d)))
+                    break
+                self._step(+1.0, dist, curve, limit=to_target)
+        return snaps
+
+    def unload(self, snap: Snapshot) -> BranchResult:
+        """Pull off from a preload snapshot until no element is attached."""
+        self.restore(snap)
+        curve = CurveRecorder()
+        self.record(curve)
+        ng = self.model.geometry.n_groups
+        let_go = np.full(ng, np.nan)
+        kern.group_counts(self.att, self.starts, self.counts)
+        prev = self.counts.copy()
+        best = [self.force(), self.d, self.f.copy(), self.p.copy(), self.att.copy()]
+        events0 = self.events
+
+        def consider():
+            F = self.force()
+            if F < best[0]:
+                best[:] = [F, self.d, self.f.copy(), self.p.copy(), self.att.copy()]
+
+        while self.att.any():
+            dist = self.next_event(-1.0)
+            if not math.isfinite(dist):
+                raise NoConvergenceError("unloading path has no further event while elements "
+                                         "are still attached")
+            self._step(-1.0, dist, curve, consider)
+            kern.group_counts(self.att, self.starts, self.counts)
+            let_go[(prev > 0) & (self.counts == 0)] = self.d
+            prev[:] = self.counts
+        return BranchResult(curve=curve, F_min=best[0], d_at_F_min=best[1], f_at_min=best[2],
+                            p_at_min=best[3], att_at_min=best[4], let_go_d=let_go,
+                            events=self.events - events0)

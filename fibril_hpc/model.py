@@ -1,0 +1,115 @@
+"""Wires the operator and the physics a scene calls for, once (design habit: physics is chosen
+when the model is built, not asked in every iteration).
+
+* rigid pillars (k = inf): alpha = 0, the kernels skip every spring sum and the tip elongation is 0;
+* no adhesion: sigma_c = 0 (an element leaves contact as soon as it would carry tension) and the
+  load-path driver computes no unloading branch (frictionless contact retraces its loading path);
+* only elements inside pillar footprints exist for the solver: the rest are never iterated over.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .grid import Geometry, PillarGrid, build_pillar_grid, footprint, pitch_elements
+from .halfspace import HalfSpace
+from .scaling import Scaling, critical_stress
+from .scene import Scene, SolverOptions
+from .solver import ConstrainedCG
+
+
+@dataclass
+class Model:
+    """Everything that is built once per scene: operator (plans, buffers), solver, physics."""
+
+    geometry: Geometry
+    operator: HalfSpace
+    solver: ConstrainedCG
+    k: float                 # spring stiffness (internal units), inf for rigid
+    sigma_c: float           # detachment stress (0 without adhesion)
+    adhesion: bool
+    scaling: Scaling
+    options: SolverOptions
+    grid: PillarGrid | None = None
+
+    @property
+    def rigid(self) -> bool:
+        return math.isinf(self.k)
+
+    @property
+    def fft_pairs(self) -> int:
+        return self.operator.n_pairs
+
+
+def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesion: float,
+                scaling: Scaling, options: SolverOptions, grid: PillarGrid | None = None,
+                operator: HalfSpace | None = None) -> Model:
+    """Build a model on any geometry (pillars, or a test-only indenter shape).
+
+    ``operator`` reuses an existing :class:`HalfSpace` (FFT plans, buffers, kernel transform); it
+    must have been built on a geometry with the same grid and active elements (heights may differ).
+    """
+    if operator is None:
+        op = HalfSpace(geometry, backend=options.fft_backend, threads=options.threads,
+                       planner=options.fft_planner)
+    else:
+        g0 = operator.geometry
+        if not (g0.n == geometry.n and np.array_equal(g0.iy, geometry.iy)
+                and np.array_equal(g0.ix, geometry.ix) and np.array_equal(g0.starts, geometry.starts)):
+            raise ValueError("the operator was built on a different grid")
+        op = operator
+    alpha = 0.0 if math.isinf(k) else geometry.h**2 / k
+    solver = ConstrainedCG(op, alpha, options.cg_tol, options.cg_maxiter)
+    sigma_c = critical_stress(geometry.h, work_of_adhesion) if adhesion else 0.0
+    return Model(geometry=geometry, operator=op, solver=solver, k=k, sigma_c=sigma_c,
+                 adhesion=adhesion, scaling=scaling, options=options, grid=grid)
+
+
+def scene_scaling(scene: Scene) -> tuple[Scaling, int, tuple]:
+    """Scaling of a scene from its discrete footprint (phi_discrete = elements/pitch^2)."""
+    s = pitch_elements(scene.phi, scene.elements_per_diameter)
+    fp = footprint(s, scene.phi)
+    phi_d = len(fp) / float(s * s)
+    return Scaling(phi=phi_d, work_of_adhesion=scene.work_of_adhesion), s, fp
+
+
+def build_scene_model(scene: Scene, operators: "OperatorCache | None" = None) -> Model:
+    """Discretise a pillar scene and build its model (reusing a cached operator if given)."""
+    scaling, _, _ = scene_scaling(scene)
+    grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter,
+                             scene.sigma_tilde * scaling.d_c, scene.seed)
+    op = None if operators is None else operators.get(scene, grid.geometry)
+    return build_model(grid.geometry, k=scaling.k(scene.k_tilde), adhesion=scene.adhesion,
+                       work_of_adhesion=scene.work_of_adhesion, scaling=scaling,
+                       options=scene.solver, grid=grid, operator=op)
+
+
+class OperatorCache:
+    """Half-space operators (FFT plans + buffers + kernel transform) kept per grid, so that the
+    jobs of a campaign on one grid plan once. Owned by its user (e.g. one campaign worker);
+    ``maxsize`` bounds the memory it holds (least recently used grids are dropped)."""
+
+    def __init__(self, maxsize: int = 2):
+        self.maxsize = int(maxsize)
+        self._ops: dict = {}
+
+    @staticmethod
+    def key(scene: Scene) -> tuple:
+        o = scene.solver
+        return (scene.n_side, scene.phi, pitch_elements(scene.phi, scene.elements_per_diameter),
+                o.fft_backend, o.threads, o.fft_planner)
+
+    def get(self, scene: Scene, geometry: Geometry) -> HalfSpace:
+        k = self.key(scene)
+        op = self._ops.pop(k, None)
+        if op is None:
+            o = scene.solver
+            op = HalfSpace(geometry, backend=o.fft_backend, threads=o.threads,
+                           planner=o.fft_planner)
+        self._ops[k] = op
+        while len(self._ops) > self.maxsize:
+            self._ops.pop(next(iter(self._ops)))
+        return op

@@ -1,0 +1,70 @@
+"""The constrained CG against a dense direct solve, from very soft to rigid springs."""
+
+import math
+
+import numpy as np
+import pytest
+
+from fibril_hpc.grid import build_pillar_grid
+from fibril_hpc.halfspace import HalfSpace
+from fibril_hpc.solver import ConstrainedCG
+from fibril_hpc.errors import NoConvergenceError
+
+
+@pytest.fixture(scope="module")
+def setup():
+    geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
+    op = HalfSpace(geom, threads=1)
+    return geom, op, op.dense()
+
+
+@pytest.mark.parametrize("k_tilde", [1e-5, 1e-3, 1e-1, 1.0, 1e2, 1e5, math.inf])
+def test_cg_matches_dense_solve(setup, k_tilde):
+    geom, op, K = setup
+    rng = np.random.default_rng(11)
+    att = (rng.random(geom.n_active) < 0.8).astype(np.uint8)
+    S = np.flatnonzero(att)
+    lab = geom.labels
+    alpha = 0.0 if math.isinf(k_tilde) else geom.h**2 / k_tilde
+    b = 1.0 - 0.3 * rng.random(geom.n_active)
+    A = K[np.ix_(S, S)] + alpha * (lab[S][:, None] == lab[S][None, :])
+    p_ref = np.linalg.solve(A, b[S])
+    cg = ConstrainedCG(op, alpha, tol=1e-10, maxiter=2000)
+    p = np.zeros(geom.n_active)
+    u = np.zeros(geom.n_active)
+    its = cg.solve(att, b, p, u)
+    assert 0 < its < 400
+    assert np.all(p[att == 0] == 0)
+    # pressure accurate even when the springs take nearly all of b (soft springs)
+    err = np.linalg.norm(p[S] - p_ref) / np.linalg.norm(p_ref)
+    assert err < 1e-7, err
+    # u = K p on every active element, including free ones
+    np.testing.assert_allclose(u, K[:, S] @ p[S], rtol=1e-8, atol=1e-12 * np.abs(u).max())
+
+
+def test_warm_start_converges_immediately(setup):
+    geom, op, K = setup
+    att = np.ones(geom.n_active, np.uint8)
+    b = np.ones(geom.n_active)
+    cg = ConstrainedCG(op, geom.h**2 / 0.01, tol=1e-9, maxiter=500)
+    p, u = np.zeros_like(b), np.zeros_like(b)
+    cg.solve(att, b, p, u)
+    assert cg.solve(att, b, p, u) == 0
+
+
+def test_iteration_cap_raises(setup):
+    geom, op, K = setup
+    att = np.ones(geom.n_active, np.uint8)
+    cg = ConstrainedCG(op, 0.0, tol=1e-12, maxiter=2)
+    with pytest.raises(NoConvergenceError, match="did not converge"):
+        cg.solve(att, np.ones(geom.n_active), np.zeros(geom.n_active), np.zeros(geom.n_active))
+
+
+def test_non_finite_input_raises(setup):
+    geom, op, K = setup
+    att = np.ones(geom.n_active, np.uint8)
+    b = np.ones(geom.n_active)
+    b[3] = np.nan
+    cg = ConstrainedCG(op, 0.0, tol=1e-8, maxiter=100)
+    with pytest.raises(NoConvergenceError, match="non-finite"):
+        cg.solve(att, b, np.zeros(geom.n_active), np.zeros(geom.n_active))
