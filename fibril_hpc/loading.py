@@ -23,6 +23,7 @@ each unloading branch starts from its snapshot (with its direction already solve
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -112,6 +113,8 @@ class PathDriver:
         self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
         self.tol_g = 1e3 * opts.cg_tol * d_c
         self.worst_only = opts.detach_policy == "worst"
+        self.deadline = (math.inf if opts.max_wall_s is None
+                         else time.monotonic() + opts.max_wall_s)
 
     # -- derived quantities ---------------------------------------------------------------
     def _forces(self, p, out):
@@ -193,6 +196,9 @@ class PathDriver:
         if self.events > self.model.options.max_events:
             raise NoConvergenceError(f"more than {self.model.options.max_events} contact events "
                                      "along one path (solver.max_events)")
+        if time.monotonic() > self.deadline:
+            raise NoConvergenceError(f"wall-time cap of {self.model.options.max_wall_s:g} s "
+                                     "exceeded (solver.max_wall_s)")
 
     def snapshot(self, n_points: int) -> Snapshot:
         return Snapshot(self.d, self.p.copy(), self.u.copy(), self.att.copy(), self.p1.copy(),

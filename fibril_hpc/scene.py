@@ -94,6 +94,9 @@ class SolverOptions:
         matters) but saves many solves. Range [0, 1]. Default 1e-2.
     max_events : int
         Cap on contact-set events along one curve (a runaway guard). Default 1_000_000.
+    max_wall_s : float or None
+        Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
+        simulation with that reason (campaigns use it to turn a runaway job into a failed record).
     detach_policy : str
         ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``
         (only the most supercritical element of each pillar per pass). Default ``"all"``.
@@ -111,6 +114,7 @@ class SolverOptions:
     event_merge: float = 1e-4
     load_event_merge: float = 1e-2
     max_events: int = 1_000_000
+    max_wall_s: float | None = None
     detach_policy: str = "all"
     fft_backend: str = "pyfftw"
     fft_threads: int | None = None
@@ -134,6 +138,11 @@ class SolverOptions:
             object.__setattr__(self, name, em)
         object.__setattr__(self, "max_events", _as_int(
             "solver.max_events", self.max_events, 1, 10**9, "an integer in [1, 1e9]"))
+        if self.max_wall_s is not None:
+            w = _as_float("solver.max_wall_s", self.max_wall_s, "null or a number > 0")
+            if not w > 0:
+                raise ConfigError("solver.max_wall_s", self.max_wall_s, "null or a number > 0")
+            object.__setattr__(self, "max_wall_s", w)
         if self.detach_policy not in ("all", "worst"):
             raise ConfigError("solver.detach_policy", self.detach_policy, "'all' or 'worst'")
         if self.fft_backend not in ("pyfftw", "numpy"):

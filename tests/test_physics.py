@@ -123,3 +123,11 @@ def test_operator_cache_reuses_plans_and_changes_nothing(opts):
     assert len(cache._ops) == 1
     fresh = simulate(Scene(**SMALL, k_tilde=0.02, F_P=1.0, seed=2, solver=opts))
     assert b.main.F_A == fresh.main.F_A and a.main.F_A != b.main.F_A
+
+
+def test_caps_turn_runaway_into_failed_status(opts):
+    r = simulate(Scene(**SMALL, k_tilde=0.05, F_P=1.0, solver=opts.replace(max_events=3)))
+    assert r.status == "failed" and "max_events" in r.message
+    r = simulate(Scene(**SMALL, k_tilde=0.05, F_P=1.0, solver=opts.replace(max_wall_s=1e-9)))
+    assert r.status == "failed" and "max_wall_s" in r.message
+    assert r.summary()["status"] == "failed"
