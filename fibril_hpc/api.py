@@ -30,6 +30,14 @@ def _curve(model: Model, rec: CurveRecorder, start: int = 0, stop: int | None = 
     return Curve(d[sl] / sc.d_c, F[sl] / sc.F_c, n_att[sl] / total, n_pil[sl])
 
 
+def _with_point(rec: CurveRecorder, snap) -> CurveRecorder:
+    """The loading points recorded before a snapshot, followed by the snapshot's own point."""
+    out = CurveRecorder(rec.d[:snap.n_points], rec.F[:snap.n_points],
+                        rec.n_attached[:snap.n_points], rec.n_pillars[:snap.n_points])
+    out.add(*snap.point)
+    return out
+
+
 def _pillar_state(model: Model, d, p, att) -> PillarState:
     g = model.geometry
     sc = model.scaling
@@ -85,7 +93,7 @@ def _run_preloads(model: Model, scene: Scene, driver: PathDriver) -> list[Preloa
         return [PreloadResult(kind, v, STATUS_FAILED, f"loading: {exc}") for v in values]
     for value, snap in zip(values, snaps):
         res = PreloadResult(kind, value, STATUS_OK)
-        res.loading = _curve(model, loading, 0, snap.n_points)
+        res.loading = _curve(model, _with_point(loading, snap), 0, snap.n_points + 1)
         res.d_tilde_max = snap.d / sc.d_c
         res.F_P = float(res.loading.F_tilde[-1])
         res.n_pillars_in_contact_max = int(res.loading.n_pillars_in_contact.max())

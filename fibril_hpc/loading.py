@@ -64,7 +64,8 @@ class Snapshot:
     att: np.ndarray
     p1: np.ndarray
     u1: np.ndarray
-    n_points: int           # loading-curve points recorded up to this state
+    n_points: int           # loading-curve points recorded before this state
+    point: tuple            # (d, F, attached elements, pillars in contact) of this state
 
 
 @dataclass
@@ -200,9 +201,38 @@ class PathDriver:
             raise NoConvergenceError(f"wall-time cap of {self.model.options.max_wall_s:g} s "
                                      "exceeded (solver.max_wall_s)")
 
-    def snapshot(self, n_points: int) -> Snapshot:
-        return Snapshot(self.d, self.p.copy(), self.u.copy(), self.att.copy(), self.p1.copy(),
-                        self.u1.copy(), n_points)
+    _STATE = ("p", "u", "att", "g", "f", "p1", "u1", "g1", "f1")
+
+    def _save(self) -> dict:
+        out = {k: getattr(self, k).copy() for k in self._STATE}
+        out["d"] = self.d
+        return out
+
+    def _load(self, saved: dict):
+        for k in self._STATE:
+            getattr(self, k)[:] = saved[k]
+        self.d = saved["d"]
+
+    def snapshot_ahead(self, dist: float, n_points: int) -> Snapshot:
+        """The consistent state ``dist`` further along the path, without touching the path.
+
+        The state is moved there on the current set, the elements whose events have been reached
+        flip and the set is relaxed (so the preload state has no penetrating free element), then
+        every array is put back bit for bit: the path does not depend on which preloads are
+        requested, and grouped preloads give exactly what separate runs give.
+        """
+        saved = self._save()
+        self.move(abs(dist), 1.0 if dist >= 0 else -1.0)
+        hair = 1e-12 * self.model.scaling.d_c
+        if kern.flip_events(self.p, self.p1, self.g, self.g1, self.att, self.model.sigma_c,
+                            1.0, hair) != (0, 0) and dist > 0:
+            self.relax()
+            self.solve_direction()
+        snap = Snapshot(self.d, self.p.copy(), self.u.copy(), self.att.copy(), self.p1.copy(),
+                        self.u1.copy(), n_points,
+                        (self.d, self.force(), self.n_attached(), self.pillars_in_contact()))
+        self._load(saved)
+        return snap
 
     def restore(self, snap: Snapshot):
         self.d = snap.d
@@ -216,15 +246,16 @@ class PathDriver:
         self._forces(self.p1, self.f1)
         self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
 
-    def _step(self, sgn, dist, curve, on_point=None, limit=math.inf):
+    def _step(self, sgn, dist, curve, on_point=None, on_batch=None):
         """Advance through the next batch of events and re-equilibrate.
 
         Moves to the first event (distance ``dist``) and records that exact pre-event point; the
         events within ``event_merge`` after it form one batch: the path moves on to the last of
         them on the old set, every element whose event has been reached flips (attached ones at
         p <= -sigma_c detach, free ones with a closed gap attach: no attraction across a gap), the
-        set is relaxed, the post-event point recorded and the direction re-solved. The batch never
-        goes beyond ``limit`` (distance from the current position, e.g. to a preload).
+        set is relaxed, the post-event point recorded and the direction re-solved.
+        ``on_batch(last)`` is called at the first event with the batch length (preload snapshots
+        falling inside the batch are taken off the old set's affine path).
         """
         self.move(dist, sgn)
         self.record(curve)
@@ -232,7 +263,9 @@ class PathDriver:
             on_point()
         last = kern.last_event_within(self.p, self.p1, self.g, self.g1, self.att,
                                       self.model.sigma_c, sgn, self.merge[sgn])
-        self.move(min(last, max(limit - dist, 0.0)), sgn)
+        if on_batch is not None:
+            on_batch(last)
+        self.move(last, sgn)
         # elements at their event (to rounding): remaining distance <= a hair
         hair = 1e-12 * self.model.scaling.d_c + 1e-12 * (abs(dist) + last)
         if kern.flip_events(self.p, self.p1, self.g, self.g1, self.att, self.model.sigma_c,
@@ -251,8 +284,7 @@ class PathDriver:
 
         kind is ``"d"`` (plate displacement, internal units) or ``"F"`` (force, internal units).
         """
-        start = min(0.0, targets[0]) if kind == "d" else 0.0
-        self.d = start
+        self.d = 0.0
         self.p[:] = 0.0
         self.att[:] = 0
         self.u[:] = 0.0
@@ -261,24 +293,30 @@ class PathDriver:
         self.solve_direction()
         self.record(curve)
         snaps = []
-        for target in targets:
-            while True:
-                dist = self.next_event(+1.0)
-                if kind == "d":
-                    to_target = target - self.d
-                else:
-                    f1 = float(self.f1.sum())
-                    to_target = (target - self.force()) / f1 if f1 > 0 else math.inf
-                to_target = max(to_target, 0.0)
-                if to_target <= dist:
-                    if not math.isfinite(to_target):
-                        raise NoConvergenceError("loading path has no further event and never "
-                                                 "reaches the preload")
-                    self.move(to_target, +1.0)
-                    self.record(curve)
-                    snaps.append(self.snapshot(len(curve.d)))
-                    break
-                self._step(+1.0, dist, curve, limit=to_target)
+        pending = list(targets)
+
+        def distance_to(target):
+            if kind == "d":
+                dist = target - self.d
+            else:
+                f1 = float(self.f1.sum())
+                dist = (target - self.force()) / f1 if f1 > 0 else math.inf
+            # before first contact the path may also be followed backwards (d < 0 preloads)
+            return dist if not self.att.any() else max(dist, 0.0)
+
+        def take(reach):
+            while pending and distance_to(pending[0]) <= reach:
+                snaps.append(self.snapshot_ahead(distance_to(pending.pop(0)), len(curve.d)))
+
+        while pending:
+            dist = self.next_event(+1.0)
+            take(dist)
+            if not pending:
+                break
+            if not math.isfinite(dist):
+                raise NoConvergenceError("loading path has no further event and never "
+                                         "reaches the preload")
+            self._step(+1.0, dist, curve, on_batch=take)
         return snaps
 
     def unload(self, snap: Snapshot) -> BranchResult:

@@ -81,7 +81,7 @@ def test_hertz_without_adhesion(opts):
     sc = Scaling(phi=1.0, work_of_adhesion=1.0, area=math.pi * (20 * h) ** 2)
     delta = (20 * h) ** 2 / R          # Hertz contact radius sqrt(R delta) = 20 elements
     m, drv, curve, snaps = _drive(geom, math.inf, False, sc, opts, [delta])
-    assert curve.F[-1] == pytest.approx(analytic.hertz_force(R, delta), rel=0.02)
+    assert snaps[0].point[1] == pytest.approx(analytic.hertz_force(R, delta), rel=0.02)
     # the contact area follows a = sqrt(R delta) (to about one element)
     area = np.count_nonzero(snaps[0].att) * h * h
     assert math.sqrt(area / math.pi) == pytest.approx(math.sqrt(R * delta), abs=1.5 * h)
@@ -96,5 +96,5 @@ def test_two_interacting_punches(opts):
     for count in (1, 2):
         geom = punch_row(fp, pitch, count, h)
         m, drv, curve, snaps = _drive(geom, math.inf, False, Scaling(0.16, 1.0), opts, [0.01])
-        stiff.append(curve.F[-1] / 0.01 / count)
+        stiff.append(snaps[0].point[1] / 0.01 / count)
     assert stiff[1] / stiff[0] == pytest.approx(0.873, abs=0.01)

@@ -55,13 +55,19 @@ def test_fft_backend_and_threads_do_not_change_results(opts):
 
 
 def test_preloads_share_one_loading_path(opts):
-    both = run(opts, k_tilde=0.05, sigma_tilde=0.7, d_tilde=[0.5, 1.5])
-    alone = run(opts, k_tilde=0.05, sigma_tilde=0.7, d_tilde=1.5)
-    assert both.results[1].F_A == pytest.approx(alone.main.F_A, rel=1e-9)
-    assert both.results[1].F_P == pytest.approx(alone.main.F_P, rel=1e-9)
+    both = run(opts, k_tilde=0.05, sigma_tilde=0.7, d_tilde=[-0.2, 0.5, 1.5])
+    for i, d in enumerate((-0.2, 0.5, 1.5)):
+        alone = run(opts, k_tilde=0.05, sigma_tilde=0.7, d_tilde=d)
+        # bitwise: the path does not depend on which other preloads were requested
+        assert both.results[i].F_A == alone.main.F_A
+        assert both.results[i].F_P == alone.main.F_P
+        np.testing.assert_array_equal(both.results[i].unloading.F_tilde, alone.main.unloading.F_tilde)
+        np.testing.assert_array_equal(both.results[i].loading.F_tilde, alone.main.loading.F_tilde)
+    forces = run(opts, k_tilde=0.05, sigma_tilde=0.7, F_P=[0.3, 0.9])
+    assert forces.results[0].F_A == run(opts, k_tilde=0.05, sigma_tilde=0.7, F_P=0.3).main.F_A
     # the shorter preload's loading curve is a prefix of the longer one's
-    n = len(both.results[0].loading)
-    np.testing.assert_array_equal(both.results[0].loading.F_tilde, both.results[1].loading.F_tilde[:n])
+    n = len(both.results[1].loading) - 1
+    np.testing.assert_array_equal(both.results[1].loading.F_tilde[:n], both.results[2].loading.F_tilde[:n])
 
 
 @pytest.mark.parametrize("k_tilde", [1e-5, 1e-3, 1.0, 1e5, math.inf])
