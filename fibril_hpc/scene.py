@@ -12,7 +12,7 @@ import dataclasses
 import math
 import numbers
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from .errors import ConfigError
 
@@ -192,18 +192,23 @@ class Scene:
     seed : int
         Seed of the pillar lengths (numpy PCG64, standard normals drawn in row-major pillar
         order). Default 0. Range [0, 2**63 - 1].
-    elements_per_diameter : float
+    elements_per_diameter : float or None
         Resolution target: elements across a nominal pillar diameter. The pitch becomes the nearest
         odd whole number of elements (pillar centres on element centres), so the realised value
-        is reported. Default 8. Range [2, 128].
+        is reported. ``None``: the preset's (8 for ``default``). Range [2, 128].
     adhesion : bool
         Default true. False gives frictionless, non-adhesive contact (no detachment criterion,
         no unloading branch: it retraces the loading one, so F_A = 0).
     work_of_adhesion : float
         Internal unit of the adhesion energy (E* = L = 1). Normalised results do not depend on it
         (scale invariance, physics.md §2); it exists so that tests can prove that. Default 1.
-    solver : SolverOptions
-        Numerical options.
+    preset : str
+        Accuracy preset, ``fast``, ``default`` or ``accurate`` (:mod:`fibril_hpc.presets`): fills
+        ``elements_per_diameter`` if it is ``None`` and the solver knobs if ``solver`` is ``None``
+        or a mapping (whose keys override the preset's). Default ``default`` (package defaults).
+    solver : SolverOptions, mapping or None
+        Numerical options: a complete :class:`SolverOptions` (used as given), or a mapping of the
+        knobs that override the preset's, or ``None`` (the preset's). Stored resolved.
     """
 
     n_side: int = 18
@@ -213,13 +218,24 @@ class Scene:
     d_tilde: tuple | None = None
     F_P: tuple | None = None
     seed: int = 0
-    elements_per_diameter: float = 8.0
+    elements_per_diameter: float | None = None
     adhesion: bool = True
     work_of_adhesion: float = 1.0
-    solver: SolverOptions = field(default_factory=SolverOptions)
+    preset: str = "default"
+    solver: SolverOptions | dict | None = None
 
     def __post_init__(self):
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        from .presets import check_name, preset_values
+        pv = preset_values(check_name(self.preset))     # preset fills what is not given
+        if self.elements_per_diameter is None:
+            set_("elements_per_diameter", pv["elements_per_diameter"])
+        if self.solver is None or isinstance(self.solver, dict):
+            bad = sorted(set(self.solver or {}) - set(SOLVER_FIELDS))
+            if bad:
+                raise ConfigError(f"solver.{bad[0]}", self.solver[bad[0]],
+                                  "a known option: " + ", ".join(SOLVER_FIELDS))
+            set_("solver", SolverOptions(**{**pv["solver"], **(self.solver or {})}))
         set_("n_side", _as_int("n_side", self.n_side, 1, 200, "an integer in [1, 200]"))
         phi = _as_float("phi", self.phi, "a number in (0, 0.785)")
         if not (0 < phi < PHI_MAX):
@@ -303,21 +319,10 @@ def scene_from_dict(data: dict, *, where: str = "") -> Scene:
         raise ConfigError(where + str(unknown[0]), data[unknown[0]],
                           "a known field: " + ", ".join(SCENE_FIELDS))
     kwargs = dict(data)
-    solver = kwargs.pop("solver", None) or {}
-    if isinstance(solver, SolverOptions):
-        opts = solver
-    else:
-        if not isinstance(solver, dict):
-            raise ConfigError(where + "solver", solver, "a mapping of solver options")
-        bad = sorted(set(solver) - set(SOLVER_FIELDS))
-        if bad:
-            raise ConfigError(f"{where}solver.{bad[0]}", solver[bad[0]],
-                              "a known option: " + ", ".join(SOLVER_FIELDS))
-        try:
-            opts = SolverOptions(**solver)
-        except ConfigError as exc:
-            raise ConfigError(where + exc.field, exc.value, exc.allowed) from None
+    solver = kwargs.pop("solver", None)     # a mapping overrides the preset's knobs key by key
+    if solver is not None and not isinstance(solver, (dict, SolverOptions)):
+        raise ConfigError(where + "solver", solver, "a mapping of solver options")
     try:
-        return Scene(**kwargs, solver=opts)
+        return Scene(**kwargs, solver=solver)
     except ConfigError as exc:
         raise ConfigError(where + exc.field, exc.value, exc.allowed) from None
