@@ -1,10 +1,10 @@
 """The non-periodic Boussinesq operator u = K * p restricted to the elements that can touch.
 
 The object owns its FFT pair (plans + aligned buffers) and the transformed kernel, built once per
-grid and reused for every product. A product scatters the active pressures into the zero-padded
-real buffer (entries outside the active set are never written and stay zero), does one forward
-transform, one real multiply by K^ and one backward transform, and gathers the active
-displacements: one FFT pair per product.
+grid and reused for every product. A product scatters the active pressures into the input rows of the
+zero-padded transform (entries outside the active set are never written and stay zero), runs one
+(row-pruned) FFT pair with a real multiply by K^ in between, and gathers the active
+displacements.
 """
 
 from __future__ import annotations
@@ -29,9 +29,12 @@ class HalfSpace:
     def __init__(self, geometry, backend="pyfftw", threads=1, planner="estimate"):
         self.geometry = geometry
         self.m = padded_size(geometry.n)
-        self.pair = FFTPair(self.m, backend=backend, threads=threads, planner=planner)
+        rows = np.unique(geometry.iy)
+        self.pair = FFTPair(self.m, rows, backend=backend, threads=threads, planner=planner)
         self.kernel_hat = kernel_spectrum(geometry.n, self.m, geometry.h)
-        self._idx = (geometry.iy * self.m + geometry.ix).astype(np.int64)
+        rank = np.zeros(geometry.n, dtype=np.int64)
+        rank[rows] = np.arange(len(rows))
+        self._idx = (rank[geometry.iy] * self.m + geometry.ix).astype(np.int64)
         self._rin = self.pair.real_in.reshape(-1)
         self._rout = self.pair.real_out.reshape(-1)
         self.c0 = K00 * geometry.h / E_STAR   # self-influence K(0, 0)
@@ -43,9 +46,7 @@ class HalfSpace:
     def apply(self, p: np.ndarray, out: np.ndarray) -> np.ndarray:
         """out <- K p on the active elements (one FFT pair)."""
         self._rin[self._idx] = p
-        self.pair.forward()
-        np.multiply(self.pair.spectrum, self.kernel_hat, out=self.pair.spectrum)
-        self.pair.backward()
+        self.pair.convolve(self.kernel_hat)
         np.take(self._rout, self._idx, out=out)
         return out
 

@@ -62,7 +62,8 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
             raise ValueError("the operator was built on a different grid")
         op = operator
     alpha = 0.0 if math.isinf(k) else geometry.h**2 / k
-    solver = ConstrainedCG(op, alpha, options.cg_tol, options.cg_maxiter)
+    solver = ConstrainedCG(op, alpha, options.cg_tol, options.cg_maxiter,
+                           preconditioner=options.preconditioner)
     sigma_c = critical_stress(geometry.h, work_of_adhesion) if adhesion else 0.0
     return Model(geometry=geometry, operator=op, solver=solver, k=k, sigma_c=sigma_c,
                  adhesion=adhesion, scaling=scaling, options=options, grid=grid)

@@ -97,6 +97,9 @@ class SolverOptions:
     max_wall_s : float or None
         Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
         simulation with that reason (campaigns use it to turn a runaway job into a failed record).
+    preconditioner : str
+        ``"auto"`` (default: exact per-pillar block Jacobi where all pillars share one footprint,
+        else the diagonal one), ``"block"`` or ``"diagonal"`` (c0 I + alpha B B^T).
     detach_policy : str
         ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``
         (only the most supercritical element of each pillar per pass). Default ``"all"``.
@@ -115,6 +118,7 @@ class SolverOptions:
     load_event_merge: float = 1e-2
     max_events: int = 1_000_000
     max_wall_s: float | None = None
+    preconditioner: str = "auto"
     detach_policy: str = "all"
     fft_backend: str = "pyfftw"
     fft_threads: int | None = None
@@ -143,6 +147,9 @@ class SolverOptions:
             if not w > 0:
                 raise ConfigError("solver.max_wall_s", self.max_wall_s, "null or a number > 0")
             object.__setattr__(self, "max_wall_s", w)
+        if self.preconditioner not in ("auto", "block", "diagonal"):
+            raise ConfigError("solver.preconditioner", self.preconditioner,
+                              "'auto', 'block' or 'diagonal'")
         if self.detach_policy not in ("all", "worst"):
             raise ConfigError("solver.detach_policy", self.detach_policy, "'all' or 'worst'")
         if self.fft_backend not in ("pyfftw", "numpy"):

@@ -37,8 +37,12 @@ class ConstrainedCG:
         Iteration cap; exceeding it raises :class:`NoConvergenceError`.
     """
 
-    def __init__(self, operator, alpha: float, tol: float, maxiter: int):
+    def __init__(self, operator, alpha: float, tol: float, maxiter: int,
+                 preconditioner: str = "auto"):
+        from .precond import make_preconditioner
+
         self.op = operator
+        self.precond = make_preconditioner(operator.geometry, alpha, operator.c0, preconditioner)
         self.alpha = float(alpha)
         self.tol = float(tol)
         self.maxiter = int(maxiter)
@@ -71,7 +75,9 @@ class ConstrainedCG:
             raise NoConvergenceError("non-finite residual at the start of a CG solve")
         if math.sqrt(rr) <= tol * math.sqrt(uu) + floor:
             return 0
-        rz = kern.precondition(r, att, starts, alpha, op.c0, z)
+        pc = self.precond
+        pc.update(att)
+        rz = pc.apply(r, att, z)
         d[:] = z
         for it in range(1, self.maxiter + 1):
             op.apply(d, kd)
@@ -87,7 +93,7 @@ class ConstrainedCG:
                 raise NoConvergenceError(f"non-finite residual after {it} CG iterations")
             if math.sqrt(rr) <= tol * math.sqrt(uu) + floor:
                 return it
-            rz_new = kern.precondition(r, att, starts, alpha, op.c0, z)
+            rz_new = pc.apply(r, att, z)
             kern.cg_direction(z, d, rz_new / rz)
             rz = rz_new
         raise NoConvergenceError(

@@ -1,0 +1,124 @@
+"""Preconditioners of the attached-set operator A = K_SS + alpha B B^T (physics.md §4).
+
+* :class:`DiagonalPreconditioner` -- P = c0 I + alpha B B^T, inverted per pillar by
+  Sherman-Morrison (O(n), any geometry).
+* :class:`BlockPreconditioner` -- block Jacobi with the *exact* dense pillar block
+  P_n = K_nn + alpha 1 1^T restricted to the pillar's attached elements. It captures the stress
+  concentration at the pillar edge, which dominates the conditioning, so CG needs a few iterations
+  independent of the resolution (measured: 15 -> 5 at 8 elements per diameter, 21 -> 5 at 16).
+  Used when all groups share one footprint (pillar brushes) of at most ``max_block`` elements.
+  Fully attached pillars share one inverse and are applied as one matrix product; partly attached
+  ones get their own inverse, cached by attachment pattern and rebuilt only when it changes.
+
+Both expose ``update(att)`` (called at the start of every solve) and ``apply(r, att, z) -> r.z``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .greens import love
+from .kernels import compiled as kern
+
+
+class DiagonalPreconditioner:
+    def __init__(self, geometry, alpha: float, c0: float):
+        self.starts = geometry.starts
+        self.alpha = float(alpha)
+        self.c0 = float(c0)
+
+    def update(self, att) -> None:
+        pass
+
+    def apply(self, r, att, z) -> float:
+        return kern.precondition(r, att, self.starts, self.alpha, self.c0, z)
+
+
+def uniform_footprint(geometry):
+    """Group size m if every group has the same relative element layout, else None."""
+    sizes = np.diff(geometry.starts)
+    if len(sizes) == 0 or np.any(sizes != sizes[0]):
+        return None
+    m = int(sizes[0])
+    iy = geometry.iy.reshape(-1, m)
+    ix = geometry.ix.reshape(-1, m)
+    if np.array_equal(iy - iy[:, :1], np.broadcast_to(iy[0] - iy[0, 0], iy.shape)) and \
+            np.array_equal(ix - ix[:, :1], np.broadcast_to(ix[0] - ix[0, 0], ix.shape)):
+        return m
+    return None
+
+
+class BlockPreconditioner:
+    def __init__(self, geometry, alpha: float, max_cache: int = 4096):
+        m = uniform_footprint(geometry)
+        if m is None:
+            raise ValueError("block preconditioner needs groups with one shared footprint")
+        self.m = m
+        self.ng = geometry.n_groups
+        h = geometry.h
+        x = geometry.ix[:m] * h
+        y = geometry.iy[:m] * h
+        block = love(x[:, None] - x[None, :], y[:, None] - y[None, :], h)
+        if alpha != 0.0:
+            block = block + alpha
+        self.block = block
+        self.full_inv = np.linalg.inv(block)
+        self.max_cache = max_cache
+        self._cache: dict = {}
+        self._att = np.zeros(geometry.n_active, dtype=np.uint8)
+        self._counts = np.zeros(self.ng, dtype=np.int64)
+        self._full = np.zeros(self.ng, dtype=bool)
+        self._partial: dict = {}          # group -> (local indices, inverse)
+        self._zg = np.zeros((self.ng, m))
+        self.updates = 0
+
+    def _inverse(self, pattern: np.ndarray):
+        key = pattern.tobytes()
+        inv = self._cache.get(key)
+        if inv is None:
+            idx = np.flatnonzero(pattern)
+            inv = (idx, np.linalg.inv(self.block[np.ix_(idx, idx)]))
+            if len(self._cache) >= self.max_cache:
+                self._cache.pop(next(iter(self._cache)))
+            self._cache[key] = inv
+        return inv
+
+    def update(self, att) -> None:
+        if np.array_equal(att, self._att):
+            return
+        self.updates += 1
+        m = self.m
+        changed = np.flatnonzero((att != self._att).reshape(self.ng, m).any(axis=1))
+        self._att[:] = att
+        a2 = self._att.reshape(self.ng, m)
+        counts = a2.sum(axis=1)
+        self._full = counts == m
+        for g in changed:
+            self._partial.pop(int(g), None)
+            if 0 < counts[g] < m:
+                self._partial[int(g)] = self._inverse(a2[g] != 0)
+
+    def apply(self, r, att, z) -> float:
+        m = self.m
+        r2 = r.reshape(self.ng, m)
+        z2 = z.reshape(self.ng, m)
+        np.matmul(r2, self.full_inv, out=self._zg)      # the block is symmetric
+        z2[:] = 0.0
+        z2[self._full] = self._zg[self._full]
+        for g, (idx, inv) in self._partial.items():
+            z2[g, idx] = inv @ r2[g, idx]
+        return float(r @ z)
+
+
+def make_preconditioner(geometry, alpha: float, c0: float, kind: str = "auto",
+                        max_block: int = 1024):
+    """``"block"`` where the geometry allows it (``"auto"``), else ``"diagonal"``."""
+    if kind == "diagonal":
+        return DiagonalPreconditioner(geometry, alpha, c0)
+    m = uniform_footprint(geometry)
+    if m is not None and m <= max_block:
+        return BlockPreconditioner(geometry, alpha)
+    if kind == "block":
+        raise ValueError("block preconditioner needs groups with one shared footprint of at "
+                         f"most {max_block} elements")
+    return DiagonalPreconditioner(geometry, alpha, c0)
