@@ -12,6 +12,7 @@ __version__ = "0.1.0"
 from .errors import ConfigError, FibrilError, NoConvergenceError, StoreError  # noqa: E402
 from .scene import Scene, SolverOptions, scene_from_dict  # noqa: E402
 from .api import simulate  # noqa: E402
+from .campaign.data import load_campaign  # noqa: E402
 
 __all__ = ["Scene", "SolverOptions", "scene_from_dict", "simulate", "ConfigError",
            "FibrilError", "NoConvergenceError", "StoreError", "__version__"]

@@ -1,0 +1,95 @@
+"""Reading a campaign back: :func:`load_campaign` (also ``fibril_hpc.load_campaign``)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+COLUMNS = ("key", "k_tilde", "sigma_tilde", "preload_kind", "preload", "seed", "status",
+           "message", "F_P", "F_A", "d_tilde_max", "d_tilde_at_F_A", "n_pillars_in_contact_max",
+           "events", "wall_s", "cg_iterations", "cg_solves", "fft_pairs", "group_size", "rank",
+           "host", "finished", "record_id")
+
+
+class CampaignData:
+    """A table of jobs (one row per job record) and their curves.
+
+    Attributes
+    ----------
+    meta : dict
+        Root attributes of the file (``campaign_yaml``, ``campaign_hash``, ``definitions`` ...).
+    jobs : list of dict
+        One dict per job, with the :data:`COLUMNS` and ``loading``/``unloading`` curves (dicts
+        of arrays ``d_tilde``, ``F_tilde``, ``contact_fraction``, ``n_pillars_in_contact``).
+    pending_in_journal : int
+        Records finished but not yet folded into the HDF5 file (read from the journal).
+    """
+
+    def __init__(self, meta, jobs, pending_in_journal=0):
+        self.meta = meta
+        self.jobs = jobs
+        self.pending_in_journal = pending_in_journal
+
+    def __len__(self):
+        return len(self.jobs)
+
+    def __iter__(self):
+        return iter(self.jobs)
+
+    def column(self, name: str) -> np.ndarray:
+        vals = [j.get(name) for j in self.jobs]
+        if vals and all(isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
+                        for v in vals):
+            return np.asarray(vals, dtype=float)
+        return np.asarray(vals, dtype=object)
+
+    @property
+    def table(self) -> dict:
+        """Column name -> array (numeric columns as float arrays)."""
+        return {c: self.column(c) for c in COLUMNS}
+
+    @property
+    def definitions(self) -> dict:
+        return json.loads(self.meta.get("definitions", "{}"))
+
+    def select(self, **where) -> list:
+        """Jobs whose fields equal the given values, e.g. ``select(k_tilde=0.01, status="done")``."""
+        out = []
+        for j in self.jobs:
+            ok = True
+            for k, v in where.items():
+                x = j.get(k)
+                if isinstance(v, float) and isinstance(x, float):
+                    ok = ok and (x == v or (math.isnan(x) and math.isnan(v)))
+                else:
+                    ok = ok and x == v
+            if ok:
+                out.append(j)
+        return out
+
+
+def _sort_key(j):
+    return (j.get("k_tilde", 0.0), j.get("sigma_tilde", 0.0), j.get("seed", 0),
+            j.get("preload", 0.0))
+
+
+def load_campaign(path: str, curves: bool = True) -> CampaignData:
+    """Read a campaign file (and the journal of a campaign still running) into a table.
+
+    Examples
+    --------
+    >>> c = load_campaign("results.h5")                      # doctest: +SKIP
+    >>> done = c.select(status="done", k_tilde=0.01)        # doctest: +SKIP
+    >>> [(j["F_P"], j["F_A"]) for j in done]                # doctest: +SKIP
+    """
+    from .store import read_records
+
+    meta, recs, pending = read_records(path, curves=curves)
+    if not meta:
+        from ..errors import StoreError
+
+        raise StoreError(f"{path}: no campaign file here")
+    jobs = sorted(recs.values(), key=_sort_key)
+    return CampaignData(meta, jobs, pending)

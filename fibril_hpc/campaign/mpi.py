@@ -1,0 +1,176 @@
+"""mpi4py master/worker (the only module that imports mpi4py; imported lazily by the CLI).
+
+Rank 0 is the master and the only writer: it hands out tasks one at a time (dynamic scheduling:
+job costs differ by orders of magnitude), writes every returned record, and polls with
+``Iprobe`` plus a short sleep so that it does not spin the core its workers need. Workers run
+:func:`~fibril_hpc.campaign.runner.execute_task` (the very code path of the serial runner, so
+results are bitwise identical) with one :class:`~fibril_hpc.model.OperatorCache` each.
+
+Stop signals (SIGTERM/SIGINT/SIGUSR1) on any rank stop the hand-out; a worker that is computing
+when it is signalled abandons its job. The master waits up to ``grace_s`` for jobs in flight,
+publishes everything, tells the workers to exit, and every rank exits with status 75.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+import time
+from collections import deque
+
+from .runner import (EXIT_FAILED_JOBS, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, CampaignWriter,
+                     Interrupted, Progress, StopFlag, execute_task, order_tasks, signal_name)
+
+log = logging.getLogger(__name__)
+
+TAG_TASK = 11
+TAG_RESULT = 12
+POLL_S = 0.02
+#: environment variables in which launchers announce the number of ranks
+LAUNCHER_VARS = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "SLURM_STEP_NUM_TASKS", "PMIX_SIZE",
+                 "MPI_LOCALNRANKS")
+
+
+def launcher_size(environ=None) -> tuple[str, int] | None:
+    """(variable, ranks) that the launcher announced, or None when none is visible."""
+    env = os.environ if environ is None else environ
+    for var in ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "PMIX_SIZE", "SLURM_STEP_NUM_TASKS"):
+        v = env.get(var)
+        if v and v.strip().isdigit():
+            return var, int(v)
+    return None
+
+
+def under_launcher(environ=None) -> bool:
+    env = os.environ if environ is None else environ
+    return any(v in env for v in ("PMI_SIZE", "PMI_RANK", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK",
+                                  "SLURM_STEP_NUM_TASKS", "HYDI_CONTROL_FD", "PMI_FD"))
+
+
+def world():
+    """Initialise MPI (lazily) and return COMM_WORLD."""
+    from mpi4py import MPI
+
+    return MPI.COMM_WORLD
+
+
+def _wait_message(comm, source, tag, stop=None):
+    from mpi4py import MPI
+
+    status = MPI.Status()
+    while not comm.Iprobe(source=source, tag=tag, status=status):
+        time.sleep(POLL_S)
+    return comm.recv(source=status.Get_source(), tag=tag), status.Get_source()
+
+
+def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.0,
+               progress=True, grace_s=120.0) -> int:
+    from mpi4py import MPI
+
+    size = comm.Get_size()
+    try:
+        writer = CampaignWriter(spec, extend=extend, checkpoint_s=checkpoint_s)
+    except Exception as exc:
+        comm.bcast(("error", EXIT_USAGE), root=0)
+        raise exc
+    comm.bcast(("ok", spec.campaign_hash), root=0)
+    stop = StopFlag().install()
+    code = EXIT_OK
+    busy: dict = {}
+    try:
+        todo = writer.keys_to_run(retry_failed)
+        queue = deque(order_tasks(spec.tasks(todo)))
+        prog = Progress(len(todo), size - 1, enabled=progress)
+        idle = deque(range(1, size))
+        while idle and queue and not stop.stop:
+            r = idle.popleft()
+            busy[r] = queue.popleft()
+            comm.send(("task", busy[r]), dest=r, tag=TAG_TASK)
+        status = MPI.Status()
+        stop_since = None
+        while busy:
+            if comm.Iprobe(source=MPI.ANY_SOURCE, tag=TAG_RESULT, status=status):
+                src = status.Get_source()
+                recs = comm.recv(source=src, tag=TAG_RESULT)
+                busy.pop(src, None)
+                if recs is None:          # the worker was signalled and abandoned its job
+                    stop.stop = True
+                if queue and not stop.stop:
+                    busy[src] = queue.popleft()
+                    comm.send(("task", busy[src]), dest=src, tag=TAG_TASK)
+                else:
+                    idle.append(src)
+                if recs is not None:
+                    writer.add(recs)
+                    prog.update(recs, running=len(busy))
+                continue
+            if stop.stop:
+                if stop_since is None:
+                    stop_since = time.monotonic()
+                    log.warning("stop requested: waiting for %d job(s) in flight", len(busy))
+                elif time.monotonic() - stop_since > grace_s:
+                    break
+            time.sleep(POLL_S)
+            prog.show()
+            writer.checkpoint()
+        prog.show(force=True)
+        prog.finish()
+        interrupted = stop.stop or bool(queue)
+        if interrupted:
+            code = EXIT_INTERRUPTED
+        else:
+            c = writer.counts()
+            code = EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED_JOBS
+    finally:
+        stop.busy = False
+        writer.close()
+        stop.restore()
+    if code == EXIT_INTERRUPTED:
+        print(f"fibril-campaign: interrupted ({signal_name(stop.signum)}); finished results are "
+              f"in {spec.output}; rerun the same command to resume", file=sys.stderr)
+    for r in range(1, size):
+        if r not in busy:
+            comm.send(("stop", code), dest=r, tag=TAG_TASK)
+    if busy:
+        print(f"fibril-campaign: {len(busy)} job(s) still running after {grace_s:g} s; "
+              "aborting them (they are pending in the file)", file=sys.stderr)
+        sys.stderr.flush()
+        comm.Abort(EXIT_INTERRUPTED)
+    return code
+
+
+def run_worker(comm) -> int:
+    from ..model import OperatorCache
+
+    status, value = comm.bcast(None, root=0)
+    if status != "ok":
+        return value
+    campaign_hash = value
+    rank = comm.Get_rank()
+    stop = StopFlag().install()
+    ops = OperatorCache()
+    try:
+        while True:
+            (kind, payload), _ = _wait_message(comm, 0, TAG_TASK)
+            if kind == "stop":
+                return payload
+            try:
+                recs = execute_task(payload, campaign_hash, ops, rank, stop)
+            except Interrupted:
+                recs = None
+            comm.send(recs, dest=0, tag=TAG_RESULT)
+    finally:
+        stop.busy = False
+        stop.restore()
+
+
+def run_mpi(comm, spec, **kw) -> int:
+    """Master on rank 0, workers elsewhere; every rank returns the same exit status."""
+    if comm.Get_rank() == 0:
+        return run_master(comm, spec, **kw)
+    return run_worker(comm)
+
+
+__all__ = ["run_mpi", "run_master", "run_worker", "launcher_size", "under_launcher", "world",
+           "EXIT_OK", "EXIT_FAILED_JOBS", "EXIT_INTERRUPTED", "Interrupted"]

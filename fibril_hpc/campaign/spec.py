@@ -1,0 +1,249 @@
+"""Campaign grid YAML -> validated :class:`CampaignSpec` -> jobs with stable keys.
+
+A grid YAML is a mapping::
+
+    output: results.h5          # relative to the folder of the YAML file
+    scene:                      # fixed scene fields (any Scene field except the swept ones)
+      n_side: 18
+      solver: {fft_threads: 1, max_wall_s: 3600}
+    k_tilde: [1, 0.1, 0.01]     # number or list
+    sigma_tilde: [0.1, 0.5]     # number or list
+    F_P: [0.5, 1, 2, 4]         # or d_tilde: [...]; number or list
+    seeds: 10                   # a count (seeds 0..9) or a list of seeds
+    group_preloads: true        # jobs sharing (k_tilde, sigma_tilde, seed) share one loading path
+
+Every combination (k_tilde, sigma_tilde, preload, seed) is one job. A job's key is the first 16 hex
+digits of the SHA-256 of its resolved single-preload scene (canonical JSON of the fields that
+differ from their defaults, plus k_tilde, sigma_tilde, seed and the preload; without the resource
+and cap options ``solver.fft_threads``, ``solver.max_wall_s``, ``solver.max_events``), so keys
+do not depend on the order of the lists, on other jobs, or on scene fields added later. The campaign hash is the SHA-256 of
+the sorted job keys: two grids with the same set of jobs have the same hash.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from dataclasses import dataclass, field
+
+import yaml
+
+from ..config import read_yaml
+from ..errors import ConfigError
+from ..scene import SCENE_FIELDS, Scene, scene_from_dict
+
+SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
+TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
+            "group_preloads", "description")
+#: solver options that limit resources but do not define a result (left out of job keys)
+KEY_EXCLUDED_SOLVER = ("fft_threads", "max_wall_s", "max_events")
+
+
+@dataclass(frozen=True)
+class Job:
+    """One (k_tilde, sigma_tilde, preload, seed) combination."""
+
+    key: str
+    index: int
+    k_tilde: float
+    sigma_tilde: float
+    preload_kind: str
+    preload: float
+    seed: int
+
+    def inputs(self) -> dict:
+        return {"key": self.key, "k_tilde": self.k_tilde, "sigma_tilde": self.sigma_tilde,
+                "preload_kind": self.preload_kind, "preload": self.preload, "seed": self.seed}
+
+
+@dataclass(frozen=True)
+class Task:
+    """Jobs run by one ``simulate`` call (one loading path); ``jobs`` in ascending preload."""
+
+    jobs: tuple
+    scene: Scene
+
+    @property
+    def keys(self):
+        return [j.key for j in self.jobs]
+
+
+@dataclass
+class CampaignSpec:
+    base: Scene
+    k_tilde: tuple
+    sigma_tilde: tuple
+    preload_kind: str
+    preloads: tuple
+    seeds: tuple
+    group_preloads: bool
+    output: str
+    source: str = ""
+    description: str = ""
+    jobs: list = field(default_factory=list)
+
+    # ------------------------------------------------------------------ identity
+    def resolved(self) -> dict:
+        """The resolved campaign as a plain mapping (what the HDF5 file stores as YAML)."""
+        scene = self.base.to_dict()
+        for k in SWEPT:
+            scene.pop(k, None)
+        return {"description": self.description, "scene": scene,
+                "k_tilde": list(self.k_tilde), "sigma_tilde": list(self.sigma_tilde),
+                self.preload_kind: list(self.preloads), "seeds": list(self.seeds),
+                "group_preloads": self.group_preloads}
+
+    def resolved_yaml(self) -> str:
+        return yaml.safe_dump(self.resolved(), sort_keys=False)
+
+    @property
+    def campaign_hash(self) -> str:
+        return campaign_hash_of(j.key for j in self.jobs)
+
+    # ------------------------------------------------------------------ jobs
+    def job_scene(self, job: Job) -> Scene:
+        return self.base.replace(k_tilde=job.k_tilde, sigma_tilde=job.sigma_tilde, seed=job.seed,
+                                 **{self.preload_kind: (job.preload,)})
+
+    def tasks(self, keys=None) -> list:
+        """Tasks for the jobs whose key is in ``keys`` (all when None), in grid order, grouped
+        by (k_tilde, sigma_tilde, seed) when ``group_preloads``."""
+        want = None if keys is None else set(keys)
+        jobs = [j for j in self.jobs if want is None or j.key in want]
+        groups: dict = {}
+        for j in jobs:
+            g = (j.k_tilde, j.sigma_tilde, j.seed) if self.group_preloads else (j.key,)
+            groups.setdefault(g, []).append(j)
+        out = []
+        for js in groups.values():
+            js = sorted(js, key=lambda j: j.preload)
+            scene = self.base.replace(k_tilde=js[0].k_tilde, sigma_tilde=js[0].sigma_tilde,
+                                      seed=js[0].seed,
+                                      **{self.preload_kind: tuple(j.preload for j in js)})
+            out.append(Task(tuple(js), scene))
+        return out
+
+
+def campaign_hash_of(keys) -> str:
+    return hashlib.sha256("\n".join(sorted(keys)).encode()).hexdigest()
+
+
+def job_key(scene: Scene) -> str:
+    """Stable key of a single-preload scene: fields at their default value are left out, so a
+    field added to Scene later (with a default) does not change existing keys."""
+    d = scene.to_dict()
+    dflt = Scene().to_dict()
+    solver = {k: v for k, v in d.pop("solver").items()
+              if k not in KEY_EXCLUDED_SOLVER and v != dflt["solver"].get(k, object())}
+    d = {k: v for k, v in d.items()
+         if k in ("k_tilde", "sigma_tilde", "seed", "d_tilde", "F_P") or v != dflt.get(k, object())}
+    d["solver"] = solver
+    text = json.dumps(d, sort_keys=True, allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _values(name, v, check, allowed):
+    items = list(v) if isinstance(v, (list, tuple)) else [v]
+    if not items:
+        raise ConfigError(name, v, allowed)
+    out = []
+    for item in items:
+        if isinstance(item, bool) or not isinstance(item, (int, float, str)):
+            raise ConfigError(name, item, allowed)
+        try:
+            x = float(item)
+        except ValueError:
+            raise ConfigError(name, item, allowed) from None
+        if math.isnan(x) or not check(x):
+            raise ConfigError(name, item, allowed)
+        out.append(x)
+    if len(set(out)) != len(out):
+        raise ConfigError(name, v, allowed + " (no duplicates)")
+    return tuple(out)
+
+
+def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSpec:
+    """Validate a grid mapping; every problem is a one-line :class:`ConfigError`."""
+    if not isinstance(data, dict):
+        raise ConfigError("campaign", data, "a mapping with output, scene, k_tilde, sigma_tilde, "
+                          "d_tilde or F_P, seeds")
+    unknown = sorted(set(map(str, data)) - set(TOP_KEYS))
+    if unknown:
+        raise ConfigError(unknown[0], data.get(unknown[0]), "a known key: " + ", ".join(TOP_KEYS))
+    out = data.get("output")
+    if not isinstance(out, str) or not out.strip() or not out.endswith((".h5", ".hdf5")):
+        raise ConfigError("output", out, "a file name ending in .h5 (relative to the YAML's folder)")
+    output = os.path.normpath(os.path.join(base_dir, os.path.expanduser(out)))
+    scene_map = data.get("scene") or {}
+    if not isinstance(scene_map, dict):
+        raise ConfigError("scene", scene_map, "a mapping of fixed scene fields")
+    for k in scene_map:
+        if k in SWEPT:
+            allowed = "set at the top level" + (" as seeds" if k == "seed" else f" as {k}")
+            raise ConfigError(f"scene.{k}", scene_map[k], allowed + " (it is swept)")
+    base = scene_from_dict(dict(scene_map), where="scene.")
+    for name in ("k_tilde", "sigma_tilde"):
+        if name not in data:
+            raise ConfigError(name, None, "a number or a list of numbers (required)")
+    ks = _values("k_tilde", data["k_tilde"], lambda x: x > 0, "numbers > 0 (inf: rigid)")
+    ss = _values("sigma_tilde", data["sigma_tilde"], lambda x: 0 <= x <= 1000,
+                 "numbers in [0, 1000]")
+    if ("d_tilde" in data) == ("F_P" in data):
+        raise ConfigError("F_P", data.get("F_P"), "give either F_P or d_tilde (one of them)")
+    kind = "F_P" if "F_P" in data else "d_tilde"
+    if kind == "F_P":
+        pre = _values("F_P", data["F_P"], lambda x: 0 < x < 1e6, "numbers in (0, 1e6)")
+    else:
+        pre = _values("d_tilde", data["d_tilde"], math.isfinite, "finite numbers")
+    seeds_v = data.get("seeds", 1)
+    if isinstance(seeds_v, bool):
+        raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
+    if isinstance(seeds_v, int):
+        if not 1 <= seeds_v <= 100000:
+            raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
+        seeds = tuple(range(seeds_v))
+    elif isinstance(seeds_v, list) and seeds_v and all(
+            isinstance(s, int) and not isinstance(s, bool) and 0 <= s < 2**63 for s in seeds_v):
+        if len(set(seeds_v)) != len(seeds_v):
+            raise ConfigError("seeds", seeds_v, "a list of distinct integers >= 0")
+        seeds = tuple(seeds_v)
+    else:
+        raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
+    group = data.get("group_preloads", True)
+    if not isinstance(group, bool):
+        raise ConfigError("group_preloads", group, "true or false")
+    desc = data.get("description", "") or ""
+    if not isinstance(desc, str):
+        raise ConfigError("description", desc, "a text")
+    spec = CampaignSpec(base=base, k_tilde=ks, sigma_tilde=ss, preload_kind=kind, preloads=pre,
+                        seeds=seeds, group_preloads=group, output=output, source=source,
+                        description=desc)
+    jobs = []
+    for k in ks:
+        for s in ss:
+            for seed in seeds:
+                for p in pre:
+                    job = Job("", len(jobs), k, s, kind, p, seed)
+                    # validates the combination exactly as the solver will see it
+                    try:
+                        scene = spec.job_scene(job)
+                    except ConfigError as exc:  # pragma: no cover - ranges checked above
+                        raise ConfigError(exc.field, exc.value, exc.allowed) from None
+                    jobs.append(Job(job_key(scene), len(jobs), k, s, kind, p, seed))
+    if len(jobs) > 10_000_000:
+        raise ConfigError("campaign", len(jobs), "at most 1e7 jobs")
+    spec.jobs = jobs
+    return spec
+
+
+def load_spec(path: str, output: str | None = None) -> CampaignSpec:
+    """Read a grid YAML; ``output`` (a path relative to the working directory) overrides the
+    file's ``output`` (which is relative to the YAML's folder)."""
+    data = read_yaml(path, field="grid")
+    if isinstance(data, dict) and output is not None:
+        data = dict(data)
+        data["output"] = os.path.abspath(output)
+    base_dir = os.path.dirname(os.path.abspath(path))
+    return spec_from_dict(data, source=os.path.abspath(path), base_dir=base_dir)

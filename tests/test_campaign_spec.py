@@ -1,0 +1,113 @@
+"""Grid validation (one line, exit 2, nothing written) and stable job keys."""
+
+import os
+
+import pytest
+import yaml
+
+from campaign_helpers import TINY, run, write_grid
+from fibril_hpc import ConfigError
+from fibril_hpc.campaign import spec_from_dict
+from fibril_hpc.campaign.cli import main
+
+
+def _spec(**changes):
+    d = dict(TINY)
+    d.update(changes)
+    return spec_from_dict(d, base_dir="/tmp")
+
+
+def test_jobs_are_the_full_product():
+    s = _spec()
+    assert len(s.jobs) == 2 * 2 * 2 * 2
+    assert len({j.key for j in s.jobs}) == len(s.jobs)
+    assert len(s.tasks()) == 2 * 2 * 2          # grouped by (k, sigma, seed)
+    assert all(len(t.jobs) == 2 for t in s.tasks())
+    assert len(_spec(group_preloads=False).tasks()) == 16
+    assert s.output == "/tmp/tiny.h5"
+
+
+def test_keys_do_not_depend_on_list_order_or_other_jobs():
+    a = _spec()
+    b = _spec(k_tilde=[0.01, 1], sigma_tilde=[1.0, 0.3], F_P=[1.0, 0.3], seeds=[1, 0])
+    assert a.campaign_hash == b.campaign_hash
+    c = _spec(k_tilde=[1])
+    assert {j.key for j in c.jobs} < {j.key for j in a.jobs}
+    assert c.campaign_hash != a.campaign_hash
+    # a resource option does not change keys; a numerical one does
+    d = _spec(scene={**TINY["scene"], "solver": {"fft_threads": 2, "max_wall_s": 5}})
+    assert d.campaign_hash == a.campaign_hash
+    e = _spec(scene={**TINY["scene"], "solver": {"cg_tol": 1e-9}})
+    assert e.campaign_hash != a.campaign_hash
+
+
+@pytest.mark.parametrize("changes, field", [
+    ({"bogus": 1}, "bogus"),
+    ({"k_tilde": [1, -2]}, "k_tilde"),
+    ({"k_tilde": []}, "k_tilde"),
+    ({"sigma_tilde": ["x"]}, "sigma_tilde"),
+    ({"sigma_tilde": [0.3, 0.3]}, "sigma_tilde"),
+    ({"seeds": True}, "seeds"),
+    ({"seeds": 0}, "seeds"),
+    ({"seeds": [0, -1]}, "seeds"),
+    ({"d_tilde": [1.0]}, "F_P"),
+    ({"F_P": [0.0]}, "F_P"),
+    ({"output": "x.txt"}, "output"),
+    ({"output": None}, "output"),
+    ({"scene": {"k_tilde": 1}}, "scene.k_tilde"),
+    ({"scene": {"n_side": 0}}, "scene.n_side"),
+    ({"scene": {"solver": {"bogus": 1}}}, "scene.solver.bogus"),
+    ({"group_preloads": "yes"}, "group_preloads"),
+])
+def test_bad_grid_one_line_exit_2_nothing_written(tmp_path, capsys, changes, field):
+    with pytest.raises(ConfigError) as ei:
+        _spec(**changes)
+    assert ei.value.field == field
+    grid = write_grid(tmp_path, **changes)
+    before = sorted(os.listdir(tmp_path))
+    assert main([grid]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"error: {field}:" in err and "allowed:" in err
+    assert sorted(os.listdir(tmp_path)) == before
+
+
+def test_missing_k_and_bad_yaml_and_missing_file(tmp_path, capsys):
+    d = dict(TINY)
+    d.pop("k_tilde")
+    assert main([write_grid(tmp_path, d)]) == 2
+    p = tmp_path / "bad.yaml"
+    p.write_text("k_tilde: [1,\n")
+    assert main([str(p)]) == 2
+    assert main([str(tmp_path / "none.yaml")]) == 2
+    errs = capsys.readouterr().err.strip().splitlines()
+    assert len(errs) == 3 and all(e.startswith("fibril-campaign: error:") for e in errs)
+    assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "grid.yaml"]
+
+
+def test_cli_usage_errors_exit_2(tmp_path):
+    for args in ([], ["report", "x.h5"], ["status", str(tmp_path / "none.h5")],
+                 ["export", str(tmp_path / "none.h5"), "--csv", "o.csv"], ["run", "--bogus"],
+                 ["merge", str(tmp_path / "a.h5"), "-o", str(tmp_path / "b.h5")]):
+        r = run(args, timeout=60, cwd=tmp_path)
+        assert r.returncode == 2, (args, r.stderr)
+        assert r.stderr.strip().count("\n") <= 1 and "Traceback" not in r.stderr
+    assert os.listdir(tmp_path) == []
+
+
+def test_dry_run_writes_nothing(tmp_path, capsys):
+    grid = write_grid(tmp_path)
+    assert main([grid, "--dry-run"]) == 0
+    out = capsys.readouterr().out
+    assert "16 jobs" in out and "core-hours" in out
+    assert os.listdir(tmp_path) == ["grid.yaml"]
+
+
+def test_output_relative_to_yaml_folder_and_override(tmp_path):
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    from fibril_hpc.campaign import load_spec
+
+    grid = write_grid(sub)
+    assert load_spec(grid).output == str(sub / "tiny.h5")
+    assert load_spec(grid, output="o.h5").output == os.path.abspath("o.h5")
+    assert yaml.safe_load(load_spec(grid).resolved_yaml())["k_tilde"] == [1.0, 0.01]
