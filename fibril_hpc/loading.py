@@ -278,6 +278,20 @@ class PathDriver:
             on_point()
         self.solve_direction()
 
+    def solve_at(self, d: float) -> None:
+        """Equilibrium at plate displacement ``d`` by a plain active-set iteration from no contact
+        (attach every penetrating element, solve, detach / attach, repeat): the fixed-d contact
+        problem that FFT contact codes solve, without a load path. For frictionless contact it
+        is path independent; with adhesion it is the state reached by a sudden indentation."""
+        self.d = float(d)
+        self.p[:] = 0.0
+        self.u[:] = 0.0
+        self.att[:] = 0
+        self._forces(self.p, self.f)
+        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+        self.att[self.g < 0.0] = 1
+        self.relax()
+
     # -- paths ------------------------------------------------------------------------------
     def load(self, targets, kind: str, curve: CurveRecorder) -> list[Snapshot]:
         """Load from no contact through every target (sorted ascending); snapshot at each.

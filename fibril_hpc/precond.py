@@ -49,7 +49,7 @@ def uniform_footprint(geometry):
 
 
 class BlockPreconditioner:
-    def __init__(self, geometry, alpha: float, max_cache: int = 4096):
+    def __init__(self, geometry, alpha: float, cache_bytes: int = 64 * 2**20):
         m = uniform_footprint(geometry)
         if m is None:
             raise ValueError("block preconditioner needs groups with one shared footprint")
@@ -63,7 +63,8 @@ class BlockPreconditioner:
             block = block + alpha
         self.block = block
         self.full_inv = np.linalg.inv(block)
-        self.max_cache = max_cache
+        # partial-pattern inverses are m x m float64: bound the cache by memory, not count
+        self.max_cache = max(8, cache_bytes // (8 * m * m))
         self._cache: dict = {}
         self._att = np.zeros(geometry.n_active, dtype=np.uint8)
         self._counts = np.zeros(self.ng, dtype=np.int64)

@@ -137,3 +137,18 @@ def test_caps_turn_runaway_into_failed_status(opts):
     r = simulate(Scene(**SMALL, k_tilde=0.05, F_P=1.0, solver=opts.replace(max_wall_s=1e-9)))
     assert r.status == "failed" and "max_wall_s" in r.message
     assert r.summary()["status"] == "failed"
+
+
+def test_solve_at_fixed_d_matches_the_load_path_without_adhesion(opts):
+    """Frictionless contact is path independent: the active-set solve at one d equals the
+    end of the event-driven loading path."""
+    from fibril_hpc.loading import PathDriver
+    from fibril_hpc.model import build_scene_model
+
+    scene = Scene(**SMALL, k_tilde=0.05, sigma_tilde=0.8, d_tilde=2.0, adhesion=False, solver=opts)
+    path = simulate(scene)
+    m = build_scene_model(scene)
+    drv = PathDriver(m)
+    drv.solve_at(2.0 * m.scaling.d_c)
+    assert drv.force() / m.scaling.F_c == pytest.approx(path.main.F_P, rel=1e-6)
+    assert drv.n_attached() / m.geometry.n_active == pytest.approx(path.main.loading.contact_fraction[-1])
