@@ -43,6 +43,9 @@ def _parser() -> _Parser:
                         "(they are safe in the journal meanwhile; default 30)")
     r.add_argument("--grace-s", type=float, default=120.0, metavar="S",
                    help="on a stop signal, wait at most S seconds for jobs in flight (MPI)")
+    r.add_argument("--fft-threads", type=int, default=None, metavar="N",
+                   help="override solver.fft_threads of every job (threads per rank; not part of "
+                        "the job keys), e.g. $SLURM_CPUS_PER_TASK")
     r.add_argument("--no-progress", action="store_true", help="no progress line")
     r.add_argument("--serial", action="store_true",
                    help="never initialise MPI, even under a launcher (one rank only)")
@@ -113,7 +116,12 @@ def cmd_run(args) -> int:
         v = getattr(args, name)
         if not (v >= 0 and v < 1e7):
             raise ConfigError("--" + name.replace("_", "-"), v, "a number of seconds in [0, 1e7)")
+    if args.fft_threads is not None and not 1 <= args.fft_threads <= 1024:
+        raise ConfigError("--fft-threads", args.fft_threads, "an integer in [1, 1024]")
     spec = load_spec(args.grid, args.output)
+    if args.fft_threads is not None:
+        spec.base = spec.base.replace(solver=spec.base.solver.replace(
+            fft_threads=args.fft_threads))
     comm = None
     if not args.serial:
         from .mpi import launcher_size, under_launcher
