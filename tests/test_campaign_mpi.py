@@ -89,3 +89,22 @@ def test_sigterm_to_mpirun_exits_75_then_resumes(tmp_path, serial):
     final = results_by_key(out)
     assert all(final[k]["record_id"] == part[k]["record_id"] for k in part)
     assert same_numbers(serial, final) == []
+
+
+def test_bad_grid_under_mpirun_one_line_exit_2(tmp_path):
+    grid = write_grid(tmp_path, k_tilde=[-1])
+    r = _mpirun(2, [grid])
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.count("fibril-campaign: error: k_tilde:") == 1, r.stderr
+    assert os.listdir(tmp_path) == ["grid.yaml"]
+
+
+def test_other_grid_refused_under_mpirun(tmp_path, serial):
+    grid = write_grid(tmp_path, k_tilde=[1])
+    assert main([grid, "--no-progress"]) == 0
+    before = (tmp_path / "tiny.h5").read_bytes()
+    grid = write_grid(tmp_path, k_tilde=[0.1])
+    r = _mpirun(2, [grid, "--no-progress"])
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.count("another grid") == 1
+    assert (tmp_path / "tiny.h5").read_bytes() == before

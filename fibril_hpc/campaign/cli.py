@@ -12,7 +12,6 @@ import json
 import logging
 import os
 import sys
-import time
 
 from ..cli import EXIT_USAGE, _Parser
 from ..errors import ConfigError, StoreError
@@ -86,9 +85,19 @@ def main(argv=None) -> int:
         return {"run": cmd_run, "status": cmd_status, "report": cmd_report,
                 "export": cmd_export, "merge": cmd_merge}[args.cmd](args)
     except ConfigError as exc:
-        return _err(str(exc))
+        return _err(str(exc)) if _launcher_rank() == 0 else EXIT_USAGE
     except StoreError as exc:
-        return _err(str(exc), 1)
+        return _err(str(exc), 1) if _launcher_rank() == 0 else 1
+
+
+def _launcher_rank() -> int:
+    """This process's rank as the launcher announced it (0 without a launcher): only rank 0
+    prints a user error, so that mpirun -n N shows it once."""
+    for var in ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "PMIX_RANK", "SLURM_PROCID"):
+        v = os.environ.get(var, "")
+        if v.isdigit():
+            return int(v)
+    return 0
 
 
 def _existing(path, field):
@@ -158,10 +167,7 @@ def cmd_run(args) -> int:
         return run_serial(spec, **kw)
     from .mpi import run_mpi
 
-    try:
-        return run_mpi(comm, spec, grace_s=args.grace_s, **kw)
-    except ConfigError as exc:
-        return _err(str(exc))
+    return run_mpi(comm, spec, grace_s=args.grace_s, **kw)
 
 
 def _dry_run(spec, args):
@@ -341,5 +347,4 @@ def cmd_report(args) -> int:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    t = time.time()
     sys.exit(main())

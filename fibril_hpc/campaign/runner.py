@@ -262,10 +262,13 @@ class CampaignWriter:
             r = dict(r)
             r.pop("type", None)
             recs.append(r)
+        t0 = time.monotonic()
         self._store.checkpoint(self.path, self.root_attrs, recs)
         self.journal.reset()
         self._unpublished = []
         self._last_ckpt = time.monotonic()
+        # a checkpoint copies the file: keep its cost below ~10 % of the run however big it gets
+        self.checkpoint_s = max(self.checkpoint_s, 10.0 * (self._last_ckpt - t0))
 
     def close(self) -> None:
         try:
@@ -327,8 +330,10 @@ class Progress:
             return
         now = time.monotonic()
         if self.tty:
-            self.stream.write("\r" + self.line() + "\x1b[K")
-            self.stream.flush()
+            if force or now - self._last >= 0.5:
+                self.stream.write("\r" + self.line() + "\x1b[K")
+                self.stream.flush()
+                self._last = now
         elif force or now - self._last >= self.every_s:
             self.stream.write(self.line() + "\n")
             self.stream.flush()
