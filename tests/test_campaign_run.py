@@ -53,12 +53,16 @@ def test_load_campaign_table(full):
     assert abs(j["F_P"] - 1.0) < 1e-6 and j["unloading"]["F_tilde"].min() == pytest.approx(-j["F_A"])
 
 
-def test_resume_never_recomputes_and_matches_uninterrupted(full, tmp_path):
+def test_resume_never_recomputes_and_matches_uninterrupted(full, tmp_path, capsys):
     grid = write_grid(tmp_path)
     spec = load_spec(grid)
     assert run_serial(spec, progress=False, max_tasks=3) == 75
     first = results_by_key(spec.output)
     assert len(first) == 6
+    assert main(["status", spec.output, "--json"]) == 0
+    st = json.loads(capsys.readouterr().out)
+    assert (st["done"], st["failed"], st["pending"]) == (6, 0, 10)
+    assert sum(v["pending"] for v in st["by_k_tilde"].values()) == 10
     assert main([grid, "--no-progress"]) == 0
     final = results_by_key(spec.output)
     assert len(final) == 16
