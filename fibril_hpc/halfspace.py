@@ -38,6 +38,33 @@ class HalfSpace:
         self._rin = self.pair.real_in.reshape(-1)
         self._rout = self.pair.real_out.reshape(-1)
         self.c0 = K00 * geometry.h / E_STAR   # self-influence K(0, 0)
+        self._table = None
+        n = max(geometry.n_active, 1)
+        # a direct sum costs ~n_active per load; an FFT pair ~m^2 log2(m)/2: break-even
+        self.max_direct = max(8, int(self.m * self.m * np.log2(max(self.m, 2)) / (2 * n)))
+
+    @property
+    def table(self) -> np.ndarray:
+        """Real-space influence coefficients K[|dy|, |dx|] on the n x n offsets (built lazily)."""
+        if self._table is None:
+            from .greens import love
+
+            off = np.arange(self.geometry.n) * self.geometry.h
+            self._table = np.ascontiguousarray(love(off[:, None], off[None, :], self.geometry.h))
+        return self._table
+
+    def add_point_loads(self, u: np.ndarray, idx: np.ndarray, vals: np.ndarray) -> bool:
+        """u += K[:, idx] vals by a direct sum when that is cheaper than an FFT pair.
+
+        Returns False (and leaves u alone) when an FFT product would be cheaper.
+        """
+        if len(idx) > self.max_direct:
+            return False
+        if len(idx):
+            from .kernels import compiled as kern
+
+            kern.point_loads(u, self.geometry.iy, self.geometry.ix, idx, vals, self.table)
+        return True
 
     @property
     def n_pairs(self) -> int:

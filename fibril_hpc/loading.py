@@ -104,6 +104,11 @@ class PathDriver:
         self.g1 = np.zeros(n)
         self.f1 = np.zeros(ng)
         self.counts = np.zeros(ng, dtype=np.int64)
+        # u = K p_ref and u1 = K p1_ref hold exactly; p, p1 differ from them only where elements
+        # flipped since, which a direct sum corrects (no FFT) before the next solve
+        self.p_ref = np.zeros(n)
+        self.p1_ref = np.zeros(n)
+        self._since_full = 0
         self._b = np.empty(n)
         self._ones = np.ones(n)
         self._dl = np.zeros(ng)
@@ -153,7 +158,7 @@ class PathDriver:
         loose = max(m.options.relax_tol, m.options.cg_tol)
         tight = True
         for _ in range(_MAX_RELAX_PASSES):
-            m.solver.solve(self.att, self._b, self.p, self.u, None if tight else loose)
+            self._solve(self._b, self.p, self.u, self.p_ref, None if tight else loose)
             self._forces(self.p, self.f)
             self._gaps(self.u, self.f, self.d, 1.0, self.g)
             nd, na = kern.update_contact_set(self.p, self.g, self.att, self.starts, m.sigma_c,
@@ -167,13 +172,28 @@ class PathDriver:
         raise NoConvergenceError(f"contact set did not settle in {_MAX_RELAX_PASSES} passes "
                                  f"at d = {self.d:.6g}")
 
+    #: full FFT recomputation of u after this many incrementally-kept solves (drift guard)
+    REFRESH = 64
+
+    def _solve(self, b, x, u, x_ref, tol=None) -> int:
+        """Solve on the current set, keeping u = K x valid without an FFT where possible."""
+        valid = False
+        if self._since_full < self.REFRESH:
+            idx = np.flatnonzero(x != x_ref)
+            valid = self.model.operator.add_point_loads(u, idx, x[idx] - x_ref[idx])
+        self._since_full = self._since_full + 1 if valid else 0
+        its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid)
+        x_ref[:] = x
+        return its
+
     def solve_direction(self):
         """p1 = A^-1 1_S, u1 = K p1, f1, g1 on the current set."""
         self.p1[self.att == 0] = 0.0
         if self.att.any():
-            self.model.solver.solve(self.att, self._ones, self.p1, self.u1)
+            self._solve(self._ones, self.p1, self.u1, self.p1_ref)
         else:
             self.u1[:] = 0.0
+            self.p1_ref[:] = 0.0
         self._forces(self.p1, self.f1)
         self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
 
@@ -184,6 +204,7 @@ class PathDriver:
             return
         self.d += s
         self.p += s * self.p1
+        self.p_ref += s * self.p1_ref
         self.u += s * self.u1
         self.f += s * self.f1
         self.g += s * self.g1
@@ -201,17 +222,19 @@ class PathDriver:
             raise NoConvergenceError(f"wall-time cap of {self.model.options.max_wall_s:g} s "
                                      "exceeded (solver.max_wall_s)")
 
-    _STATE = ("p", "u", "att", "g", "f", "p1", "u1", "g1", "f1")
+    _STATE = ("p", "u", "att", "g", "f", "p1", "u1", "g1", "f1", "p_ref", "p1_ref")
 
     def _save(self) -> dict:
         out = {k: getattr(self, k).copy() for k in self._STATE}
         out["d"] = self.d
+        out["_since_full"] = self._since_full
         return out
 
     def _load(self, saved: dict):
         for k in self._STATE:
             getattr(self, k)[:] = saved[k]
         self.d = saved["d"]
+        self._since_full = saved["_since_full"]
 
     def snapshot_ahead(self, dist: float, n_points: int) -> Snapshot:
         """The consistent state ``dist`` further along the path, without touching the path.
@@ -241,6 +264,9 @@ class PathDriver:
         self.att[:] = snap.att
         self.p1[:] = snap.p1
         self.u1[:] = snap.u1
+        self.p_ref[:] = snap.p
+        self.p1_ref[:] = snap.p1
+        self._since_full = 0
         self._forces(self.p, self.f)
         self._gaps(self.u, self.f, self.d, 1.0, self.g)
         self._forces(self.p1, self.f1)
@@ -286,6 +312,7 @@ class PathDriver:
         self.d = float(d)
         self.p[:] = 0.0
         self.u[:] = 0.0
+        self.p_ref[:] = 0.0
         self.att[:] = 0
         self._forces(self.p, self.f)
         self._gaps(self.u, self.f, self.d, 1.0, self.g)
@@ -302,6 +329,10 @@ class PathDriver:
         self.p[:] = 0.0
         self.att[:] = 0
         self.u[:] = 0.0
+        self.p_ref[:] = 0.0
+        self.p1[:] = 0.0
+        self.u1[:] = 0.0
+        self.p1_ref[:] = 0.0
         self._forces(self.p, self.f)
         self._gaps(self.u, self.f, self.d, 1.0, self.g)
         self.solve_direction()

@@ -57,16 +57,19 @@ class ConstrainedCG:
         self.iterations = 0     # cumulative CG iterations
         self.solves = 0
 
-    def solve(self, att, b, x, u, tol: float | None = None) -> int:
+    def solve(self, att, b, x, u, tol: float | None = None, u_valid: bool = False) -> int:
         """Solve A x = b on S = {att != 0} in place; u <- K x on every active element.
 
-        ``tol`` overrides the relative tolerance for this solve. Returns its iteration count.
+        ``tol`` overrides the relative tolerance for this solve. ``u_valid`` says that ``u``
+        already holds K x (the caller kept it up to date), which saves the initial product.
+        Returns the iteration count of this solve.
         """
         op, starts, alpha = self.op, self.starts, self.alpha
         tol = self.tol if tol is None else tol
         r, z, d, kd, q = self._r, self._z, self._d, self._kd, self._q
         self.solves += 1
-        op.apply(x, u)
+        if not u_valid:
+            op.apply(x, u)
         rr = kern.residual(b, u, x, att, starts, alpha, r)
         bb = kern.masked_norm2(b, att)
         uu = kern.masked_norm2(u, att)

@@ -46,3 +46,18 @@ def test_backends_and_threads_agree(geom):
         assert op.n_pairs == 2
     for u in outs[1:]:
         np.testing.assert_allclose(u, outs[0], rtol=1e-12, atol=1e-14)
+
+
+def test_point_loads_equal_the_fft_product(geom):
+    op = HalfSpace(geom, threads=1)
+    rng = np.random.default_rng(9)
+    idx = rng.choice(geom.n_active, 5, replace=False).astype(np.int64)
+    vals = rng.standard_normal(5)
+    p = np.zeros(geom.n_active)
+    p[idx] = vals
+    ref = np.empty_like(p)
+    op.apply(p, ref)
+    u = np.zeros_like(p)
+    assert op.add_point_loads(u, idx, vals)
+    np.testing.assert_allclose(u, ref, rtol=1e-11, atol=1e-14 * np.abs(ref).max())
+    assert not op.add_point_loads(u, np.arange(op.max_direct + 1), np.ones(op.max_direct + 1))

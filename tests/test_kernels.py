@@ -141,3 +141,20 @@ def test_update_contact_set(pb, worst):
     # invariants: no attached element beyond the threshold unless worst-only left it for later
     if not worst:
         assert not np.any((aa != 0) & (pa < -(sig + 1e-9)) & (pb["att"] != 0))
+
+
+@SETTINGS
+@given(problems())
+def test_point_loads(pb):
+    n = pb["n"]
+    rng = pb["rng"]
+    iy = rng.integers(0, 6, n)
+    ix = rng.integers(0, 6, n)
+    table = rng.random((6, 6))
+    k = min(n, 3)
+    idx = rng.choice(n, k, replace=False).astype(np.int64)
+    vals = rng.standard_normal(k)
+    ua, ub = pb["x"].copy(), pb["x"].copy()
+    C.point_loads(ua, iy, ix, idx, vals, table)
+    R.point_loads(ub, iy, ix, idx, vals, table)
+    np.testing.assert_allclose(ua, ub, rtol=1e-13, atol=1e-14)

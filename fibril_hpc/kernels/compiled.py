@@ -243,3 +243,22 @@ def update_contact_set(p, g, att, starts, sigma_c, tol_p, tol_g, worst_only):
                 att[i] = 1
                 p[i] = 0.0
     return nd, na
+
+
+@jit
+def point_loads(u, iy, ix, idx, vals, table):
+    """u_j += sum_k vals[k] K(x_j - x_idx[k]) over every active j, with K read from the real-space
+    table K[|dy|, |dx|] (exact: the same influence coefficients as the FFT product)."""
+    for k in range(len(idx)):
+        i = idx[k]
+        v = vals[k]
+        yi = iy[i]
+        xi = ix[i]
+        for j in range(len(u)):
+            dy = iy[j] - yi
+            dx = ix[j] - xi
+            if dy < 0:
+                dy = -dy
+            if dx < 0:
+                dx = -dx
+            u[j] += v * table[dy, dx]

@@ -120,3 +120,8 @@ def update_contact_set(p, g, att, starts, sigma_c, tol_p, tol_g, worst_only):
     att[new] = 1
     p[sup | new] = 0.0
     return int(sup.sum()), int(new.sum())
+
+
+def point_loads(u, iy, ix, idx, vals, table):
+    for i, v in zip(idx, vals):
+        u += v * table[np.abs(iy - iy[i]), np.abs(ix - ix[i])]
