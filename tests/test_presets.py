@@ -1,0 +1,97 @@
+"""Accuracy presets: what they fill, what overrides them, and that every output records them."""
+
+import dataclasses
+import json
+import subprocess
+import sys
+
+import h5py
+import pytest
+
+from fibril_hpc import ConfigError, Scene, SolverOptions, scene_from_dict
+from fibril_hpc.cli import run_main
+from fibril_hpc.presets import PRESETS, solver_options
+
+
+def test_default_preset_is_the_package_default():
+    assert Scene() == Scene(preset="default")
+    assert Scene().elements_per_diameter == PRESETS["default"]["elements_per_diameter"] == 8
+    defaults = SolverOptions()
+    for k, v in PRESETS["default"]["solver"].items():
+        assert getattr(defaults, k) == v, k
+
+
+@pytest.mark.parametrize("name", list(PRESETS))
+def test_preset_fills_what_is_not_given(name):
+    s = Scene(preset=name)
+    assert s.elements_per_diameter == PRESETS[name]["elements_per_diameter"]
+    for k, v in PRESETS[name]["solver"].items():
+        assert getattr(s.solver, k) == v
+    assert s.to_dict()["preset"] == name
+
+
+def test_explicit_fields_override_the_preset():
+    s = scene_from_dict({"preset": "fast", "elements_per_diameter": 12,
+                         "solver": {"cg_tol": 1e-8, "fft_threads": 1}})
+    assert s.elements_per_diameter == 12
+    assert s.solver.cg_tol == 1e-8                       # given: wins, even at the default value
+    assert s.solver.event_merge == PRESETS["fast"]["solver"]["event_merge"]   # not given: preset
+    assert s.solver.fft_threads == 1
+    # Python: a mapping overrides key by key; a SolverOptions object is complete and used as is
+    p = Scene(preset="accurate", solver={"fft_threads": 1})
+    assert p.solver == solver_options("accurate", fft_threads=1)
+    full = SolverOptions(fft_threads=1)
+    assert Scene(preset="accurate", solver=full).solver == full
+    # resolving is idempotent: copies and YAML round trips keep the knobs
+    assert s.replace(seed=4).solver == s.solver
+    assert scene_from_dict(s.to_dict()) == s
+    assert dataclasses.replace(p).solver == p.solver
+
+
+@pytest.mark.parametrize("data,field", [
+    ({"preset": "fastest"}, "preset"), ({"preset": 1}, "preset"),
+    ({"preset": "fast", "solver": {"cg_tol": 1.0}}, "solver.cg_tol"),
+    ({"preset": "fast", "solver": {"bogus": 1}}, "solver.bogus"),
+])
+def test_bad_preset_input_names_the_field(data, field):
+    with pytest.raises(ConfigError) as exc:
+        scene_from_dict(data, where="scene.")
+    assert exc.value.field == "scene." + field
+    assert "\n" not in str(exc.value)
+
+
+def test_cli_records_the_preset(tmp_path, capsys):
+    scene = tmp_path / "s.yaml"
+    scene.write_text("preset: fast\nn_side: 2\nF_P: 0.5\nsolver: {fft_threads: 1}\n")
+    h5 = tmp_path / "r.h5"
+    assert run_main([str(scene), "--json", "--out", str(h5)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["scene"]["preset"] == "fast"
+    assert out["scene"]["elements_per_diameter"] == 6
+    assert out["scene"]["solver"]["event_merge"] == PRESETS["fast"]["solver"]["event_merge"]
+    with h5py.File(h5, "r") as f:
+        assert "preset: fast" in f.attrs["scene_yaml"]
+
+
+def test_cli_bad_preset_one_line_exit_2_nothing_written(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("preset: best\n")
+    out = tmp_path / "never.h5"
+    proc = subprocess.run([sys.executable, "-m", "fibril_hpc.cli", str(bad), "--out", str(out)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("fibril-run: error: preset")
+    assert not out.exists()
+
+
+def test_campaign_jobs_inherit_the_preset(tmp_path):
+    from fibril_hpc.campaign.spec import spec_from_dict
+
+    spec = spec_from_dict({"output": "c.h5", "scene": {"preset": "fast", "n_side": 2},
+                           "k_tilde": [0.01], "sigma_tilde": [0.5], "F_P": [1.0], "seeds": 1},
+                          base_dir=str(tmp_path))
+    scene = spec.tasks()[0].scene
+    assert scene.preset == "fast" and scene.elements_per_diameter == 6
+    assert scene.solver.cg_tol == PRESETS["fast"]["solver"]["cg_tol"]
+    assert "preset: fast" in spec.resolved_yaml()
