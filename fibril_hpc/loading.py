@@ -309,15 +309,19 @@ class PathDriver:
         (attach every penetrating element, solve, detach / attach, repeat): the fixed-d contact
         problem that FFT contact codes solve, without a load path. For frictionless contact it
         is path independent; with adhesion it is the state reached by a sudden indentation."""
-        self.d = float(d)
-        self.p[:] = 0.0
-        self.u[:] = 0.0
-        self.p_ref[:] = 0.0
-        self.att[:] = 0
-        self._forces(self.p, self.f)
-        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+        self._reset(d)
         self.att[self.g < 0.0] = 1
         self.relax()
+
+    def _reset(self, d: float) -> None:
+        """No contact, no load, at plate displacement d (gaps and direction consistent)."""
+        self.d = float(d)
+        for a in (self.p, self.u, self.p_ref, self.p1, self.u1, self.p1_ref):
+            a[:] = 0.0
+        self.att[:] = 0
+        self._since_full = 0
+        self._forces(self.p, self.f)
+        self._gaps(self.u, self.f, self.d, 1.0, self.g)
 
     # -- paths ------------------------------------------------------------------------------
     def load(self, targets, kind: str, curve: CurveRecorder) -> list[Snapshot]:
@@ -325,16 +329,7 @@ class PathDriver:
 
         kind is ``"d"`` (plate displacement, internal units) or ``"F"`` (force, internal units).
         """
-        self.d = 0.0
-        self.p[:] = 0.0
-        self.att[:] = 0
-        self.u[:] = 0.0
-        self.p_ref[:] = 0.0
-        self.p1[:] = 0.0
-        self.u1[:] = 0.0
-        self.p1_ref[:] = 0.0
-        self._forces(self.p, self.f)
-        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+        self._reset(0.0)
         self.solve_direction()
         self.record(curve)
         snaps = []
