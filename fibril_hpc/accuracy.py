@@ -62,13 +62,12 @@ CASES = {
                "quick": dict(epd=[6, 8, 12], knob_epd=6)},
     "brush6": {"scene": dict(n_side=6, k_tilde=0.01, sigma_tilde=0.5, seed=0, d_tilde=18.0),
                "exact": False,
-               "full": dict(epd=[6, 8, 10, 12, 14, 16, 20], knob_epd=8, ref_epd=[16]),
+               "full": dict(epd=[6, 8, 10, 12, 14, 16, 20], knob_epd=8, ref_epd=[]),
                "quick": dict(epd=[5, 6], knob_epd=5, ref_epd=[8])},
     "brush18": {"scene": dict(n_side=18, k_tilde=0.01, sigma_tilde=0.5, seed=0, F_P=4.0),
                 "exact": False,
                 "full": dict(epd=[6, 8, 10], knob_epd=6, ref_epd=[],
-                             knobs={"cg_tol": [1e-6], "event_merge": [1e-2],
-                                    "detach_policy": ["worst"]}),
+                             knobs={"cg_tol": [1e-6], "event_merge": [1e-2]}),
                 "quick": None},
 }
 #: The quick brush is smaller than brush6 (CI): 3 x 3 pillars, same physics.
@@ -76,7 +75,25 @@ QUICK_SCENES = {"brush6": dict(n_side=3, k_tilde=0.01, sigma_tilde=0.5, seed=0, 
 
 FIELDS = ["case", "kind", "knob", "value", "epd_target", "epd", "phi_discrete", "F_A", "F_P",
           "d_max", "F_A_exact", "F_P_exact", "wall_s", "cpu_s", "cg_iterations", "events",
-          "status"]
+          "status", "code", "when"]
+
+
+def code_version() -> str:
+    """The code that ran: git commit (``+wip`` when fibril_hpc has uncommitted changes), else the
+    package version. Timings depend on it; the physics must not."""
+    import subprocess
+
+    from . import __version__
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    try:
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=here, text=True,
+                              capture_output=True, timeout=10, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--", "."], cwd=here, text=True,
+                               capture_output=True, timeout=10).stdout.strip()
+        return head + ("+wip" if dirty else "")
+    except (OSError, subprocess.SubprocessError):
+        return "fibril_hpc " + __version__
 
 
 class _Parser(argparse.ArgumentParser):
@@ -132,7 +149,10 @@ def plan(case: str, quick: bool) -> list[tuple]:
         if key not in seen and not (r[0] == "tight" and ("reference", "tight", "tight", float(r[3])) in seen):
             seen.add(key)
             out.append(r)
-    return out
+    # cheapest first (cost ~ epd^3, tight knobs ~2x, one-at-a-time detachment ~3x), so that an
+    # interrupted study has its cheap rows
+    cost = {"tight": 2.0, "detach_policy": 3.0}
+    return sorted(out, key=lambda r: float(r[3]) ** 3 * cost.get(r[1], 1.0))
 
 
 def _key(row) -> tuple:
@@ -146,7 +166,7 @@ def read_rows(path: str) -> list[dict]:
         rows = list(csv.DictReader(fh))
     for r in rows:
         for k in FIELDS:
-            if k in ("case", "kind", "knob", "value", "status"):
+            if k in ("case", "kind", "knob", "value", "status", "code", "when"):
                 continue
             r[k] = float(r[k]) if r.get(k) not in (None, "") else math.nan
     return rows
@@ -158,7 +178,8 @@ def write_csv(path: str, rows: list[dict]) -> None:
         w = csv.DictWriter(fh, fieldnames=FIELDS, extrasaction="ignore")
         w.writeheader()
         for r in rows:
-            w.writerow({k: (f"{r[k]:.10g}" if isinstance(r[k], float) else r[k]) for k in FIELDS})
+            w.writerow({k: (f"{r[k]:.10g}" if isinstance(r[k], float) else r.get(k, ""))
+                        for k in FIELDS})
     os.replace(tmp, path)
 
 
@@ -183,6 +204,9 @@ def _knobs_of(row) -> dict:
     return {}
 
 
+CODE = [""]
+
+
 def run_case(case: str, quick: bool, rows: list[dict], csv_path: str, log=print) -> None:
     """Run every planned run of ``case`` not yet in ``rows``; a run whose resolution and knobs
     equal an earlier one's (e.g. the ``default`` preset and the default-knob resolution row) is
@@ -201,7 +225,10 @@ def run_case(case: str, quick: bool, rows: list[dict], csv_path: str, log=print)
                                      "wall_s", "cpu_s", "cg_iterations", "events", "status")}
                if same is not None else _run(scene_kw, epd, knobs))
         row = {"case": case, "kind": kind, "knob": knob, "value": str(value), **res,
-               "F_A_exact": math.nan, "F_P_exact": math.nan}
+               "F_A_exact": math.nan, "F_P_exact": math.nan,
+               "code": same.get("code", "") if same is not None else CODE[0],
+               "when": same.get("when", "") if same is not None else time.strftime("%Y-%m-%dT%H:%MZ",
+                                                                            time.gmtime())}
         if CASES[case]["exact"]:
             row["F_A_exact"] = res["phi_discrete"] ** 0.25
             row["F_P_exact"] = math.sqrt(res["phi_discrete"]) * scene_kw["d_tilde"]
@@ -230,7 +257,7 @@ def reference(rows: list[dict], case: str) -> dict | None:
     for q in ("F_A", "F_P", "d_max"):
         dev = [abs(r[q] / ref[q] - 1) for r in near if ref[q] != 0]
         unc[q] = max(dev) if dev else math.nan
-    return {"row": ref, "unc": unc, "near": [r["epd"] for r in near]}
+    return {"row": ref, "unc": unc, "near": sorted({round(r["epd"], 2) for r in near})}
 
 
 def add_errors(rows: list[dict]) -> dict:
@@ -283,6 +310,13 @@ def markdown(rows: list[dict], refs: dict, quick: bool, versions: dict) -> str:
                "machine (treat them as +-20 %). "
                + "Versions: " + ", ".join(f"{k} {versions.get(k, '')}" for k in
                                           ("fibril_hpc", "numpy", "numba", "pyfftw", "fftw")))
+    codes = {}
+    for r in rows:
+        codes.setdefault(r.get("code") or "unrecorded", []).append(r.get("when") or "")
+    out.append("")
+    out.append("Code that ran (timings depend on it, results must not): " + "; ".join(
+        f"`{c}` {len(w)} rows" + (f" ({min(x for x in w if x)} to {max(w)})" if any(w) else "")
+        for c, w in codes.items()) + ".")
     out.append("")
     out.append("Errors are relative and signed. `pillar`: against Kendall (F~_A = phi_d^(1/4)) and "
                "the punch stiffness (F~_P = phi_d^(1/2) d~). Brushes: against the reference below. "
@@ -300,8 +334,8 @@ def markdown(rows: list[dict], refs: dict, quick: bool, versions: dict) -> str:
         out.append(f"* `{case}` reference: its finest run, {rr['epd']:.2f} elements per "
                    f"diameter, {knobs}: "
                    f"F~_A = {rr['F_A']:.5f}, F~_P = {rr['F_P']:.5f}, d~_max = {rr['d_max']:.5f}; "
-                   f"uncertainty (largest deviation of the tight runs at {near} elements per "
-                   f"diameter): F~_A {_pct(ref['unc']['F_A'])}, F~_P {_pct(ref['unc']['F_P'])}, "
+                   f"uncertainty (largest deviation of the "
+                   f"runs at {near} elements per diameter): F~_A {_pct(ref['unc']['F_A'])}, F~_P {_pct(ref['unc']['F_P'])}, "
                    f"d~_max {_pct(ref['unc']['d_max'])}.")
     out.append("")
     out.append("| case | kind | knob | value | elements/diam. | F~_A | err F~_A | knob err F~_A | "
@@ -410,6 +444,9 @@ def main(argv=None) -> int:
     os.makedirs(args.out, exist_ok=True)
     rows = read_rows(csv_path) if (args.resume or args.report_only) else []
     if not args.report_only:
+        CODE[0] = code_version()
+        _run(dict(n_side=2, k_tilde=0.01, sigma_tilde=0.5, d_tilde=1.0), 4, {})   # warm-up:
+        # numba's cached kernels and FFTW load here, not inside the first timed run
         for c in cases:
             run_case(c, args.quick, rows, csv_path)
     refs = add_errors(rows)
