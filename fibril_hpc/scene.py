@@ -68,6 +68,29 @@ def _as_list(name, v, check, allowed):
     return tuple(sorted(out))
 
 
+#: Environment variables that give the number of MPI ranks on this node (MPICH/Hydra, Open MPI).
+LOCAL_RANKS_ENV = ("MPI_LOCALNRANKS", "OMPI_COMM_WORLD_LOCAL_SIZE")
+
+
+def default_threads(environ=None) -> int:
+    """CPUs of this process's affinity mask divided among the local MPI ranks (at least 1)."""
+    environ = os.environ if environ is None else environ
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - non-Linux
+        cpus = os.cpu_count() or 1
+    local = 1
+    for name in LOCAL_RANKS_ENV:
+        try:
+            local = max(1, int(environ.get(name, "")))
+            break
+        except ValueError:
+            continue
+    if "SLURM_CPUS_PER_TASK" in environ:       # srun binds each task to its own CPUs
+        local = 1
+    return max(1, cpus // local)
+
+
 @dataclass(frozen=True)
 class SolverOptions:
     """Numerical knobs; every one has a documented default.
@@ -106,7 +129,10 @@ class SolverOptions:
     fft_backend : str
         ``"pyfftw"`` (default) or ``"numpy"`` (reference/comparison).
     fft_threads : int or None
-        Threads of the FFT; ``None`` means the CPUs this process may run on (``os.sched_getaffinity``).
+        Threads of the FFT; ``None`` means the CPUs this process may run on
+        (``os.sched_getaffinity``), divided among the MPI ranks of the node (see
+        :func:`default_threads`). The numba kernels are serial; BLAS (block preconditioner)
+        follows its own ``OPENBLAS_NUM_THREADS``.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
     """
@@ -163,13 +189,12 @@ class SolverOptions:
 
     @property
     def threads(self) -> int:
-        """Resolved FFT thread count."""
+        """Resolved FFT thread count: ``fft_threads``, else the CPUs this process may run on
+        shared among the MPI ranks of this node (no oversubscription under ``mpirun``; under
+        Slurm the affinity mask already is the task's allocation)."""
         if self.fft_threads is not None:
             return self.fft_threads
-        try:
-            return max(1, len(os.sched_getaffinity(0)))
-        except AttributeError:  # pragma: no cover - non-Linux
-            return max(1, os.cpu_count() or 1)
+        return default_threads()
 
     def replace(self, **changes) -> "SolverOptions":
         return dataclasses.replace(self, **changes)

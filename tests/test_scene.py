@@ -46,3 +46,16 @@ def test_inf_and_lists_are_accepted():
     assert s.d_tilde == (-1.0, 0.5, 2.0) and s.F_P is None
     assert scene_from_dict({"k_tilde": float("inf")}).rigid
     assert s.replace(F_P=3).d_tilde is None
+
+
+def test_default_threads_share_cpus_among_local_ranks():
+    import os
+
+    from fibril_hpc.scene import default_threads
+
+    cpus = len(os.sched_getaffinity(0))
+    assert default_threads({}) == cpus
+    assert default_threads({"MPI_LOCALNRANKS": str(cpus)}) == 1
+    assert default_threads({"OMPI_COMM_WORLD_LOCAL_SIZE": "1000"}) == 1
+    assert default_threads({"MPI_LOCALNRANKS": "2", "SLURM_CPUS_PER_TASK": "1"}) == cpus
+    assert SolverOptions(fft_threads=3).threads == 3
