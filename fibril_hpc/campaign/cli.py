@@ -84,6 +84,9 @@ def main(argv=None) -> int:
     try:
         return {"run": cmd_run, "status": cmd_status, "report": cmd_report,
                 "export": cmd_export, "merge": cmd_merge}[args.cmd](args)
+    except BrokenPipeError:            # e.g. `fibril-campaign status f.h5 | head`
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except ConfigError as exc:
         return _err(str(exc)) if _launcher_rank() == 0 else EXIT_USAGE
     except StoreError as exc:
