@@ -40,7 +40,7 @@ def _finish(proc, timeout=120):
 
 
 def test_sigkill_at_random_moments_then_resume_exactly_once(tmp_path):
-    grid = write_grid(tmp_path, group_preloads=False, seeds=6)     # 48 jobs
+    grid = write_grid(tmp_path, group_preloads=False, seeds=8)     # 64 jobs
     out = str(tmp_path / "tiny.h5")
     rng = random.Random(20261122)
     seen: dict = {}            # key -> record_id of a done record seen after a kill
@@ -58,16 +58,16 @@ def test_sigkill_at_random_moments_then_resume_exactly_once(tmp_path):
             for k, r in results_by_key(out).items():
                 if r["status"] == "done":
                     assert seen.setdefault(k, r["record_id"]) == r["record_id"], "recomputed"
-        if len(seen) == 48 or kills >= 6:
+        if len(seen) == 64 or kills >= 6:
             break
     assert kills >= 3
     r = run([grid, "--no-progress"], timeout=300)
     assert r.returncode == 0, r.stderr
     final = results_by_key(out)
-    assert len(final) == 48 and {x["status"] for x in final.values()} == {"done"}
+    assert len(final) == 64 and {x["status"] for x in final.values()} == {"done"}
     assert all(final[k]["record_id"] == rid for k, rid in seen.items())
     with h5py.File(out, "r") as fh:
-        assert sorted(fh["jobs"]) == sorted(final) and len(fh["jobs"]) == 48
+        assert sorted(fh["jobs"]) == sorted(final) and len(fh["jobs"]) == 64
     assert os.path.getsize(out + ".journal") == 0
     assert glob.glob(str(tmp_path / ".tiny.h5.ckpt-*")) == []
 
