@@ -1069,11 +1069,19 @@ def run(args, log=print) -> dict:
     return res
 
 
+def _default_out() -> str:
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    if os.path.isdir(os.path.join(root, "benchmarks")):
+        return os.path.join(root, "benchmarks", "results")
+    return os.path.join("benchmarks", "results")
+
+
 def parse_args(argv):
     ap = argparse.ArgumentParser(prog="fibril-bench", description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="small grids, seconds (smoke run)")
-    ap.add_argument("--out", default=os.path.join("benchmarks", "results"), metavar="DIR",
-                    help="folder of the JSON file (default benchmarks/results)")
+    ap.add_argument("--out", default=_default_out(), metavar="DIR",
+                    help="folder of the JSON file (default: benchmarks/results of the source "
+                         "checkout, else of the current folder)")
     ap.add_argument("--only", default=None, metavar="S1,S2",
                     help="sections to run, of: " + ", ".join(SECTIONS) + " (default: all), "
                          "and 'opts' (optimisation experiments of benchmarks/NOTES.md, "
