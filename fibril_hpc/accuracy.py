@@ -323,7 +323,7 @@ def markdown(rows: list[dict], refs: dict, quick: bool, versions: dict) -> str:
         codes.setdefault(r.get("code") or "unrecorded", []).append(r.get("when") or "")
     out.append("")
     out.append("Code that ran (timings depend on it, results must not): " + "; ".join(
-        f"`{c}` {len(w)} rows" + (f" ({min(x for x in w if x)} to {max(w)})" if any(w) else "")
+        f"`{c}` {len(w)} rows" + (f" ({', '.join(sorted({x for x in w if x}))})" if any(w) else "")
         for c, w in codes.items()) + ".")
     out.append("")
     out.append("Errors are relative and signed. `pillar`: against Kendall (F~_A = phi_d^(1/4)) and "
