@@ -47,7 +47,11 @@ def test_sigkill_at_random_moments_then_resume_exactly_once(tmp_path):
     kills = 0
     for attempt in range(12):
         p = start([grid, "--checkpoint-s", "0", "--no-progress"])
-        time.sleep(rng.uniform(0.5, 3.0))
+        # a random moment *while it runs*: after a random number of new records (the solver's
+        # speed, the machine's load and the JIT cache must not decide whether the kill lands),
+        # plus a random fraction of a job
+        _wait_records(out, len(seen) + rng.randint(1, 4), p)
+        time.sleep(rng.uniform(0.0, 0.2))
         if p.poll() is None:
             p.send_signal(signal.SIGKILL)
             kills += 1
