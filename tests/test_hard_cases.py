@@ -245,7 +245,7 @@ def test_reattachment_load_unload_reload():
     assert drv.force() == pytest.approx(2.0 * model.scaling.F_c, rel=1e-6)
     # detached elements carry nothing and no attached element is beyond the criterion
     assert np.all(drv.p[drv.att == 0] == 0)
-    assert drv.p[drv.att != 0].min() >= -model.sigma_c * (1 + 1e-6)
+    assert drv.p[drv.att != 0].min() >= -model.sigma_c * (1 + 1.01e3 * scene.solver.cg_tol)
 
 
 # -- meshes ------------------------------------------------------------------------------------
@@ -339,7 +339,9 @@ def test_property_random_small_scenes(kw):
     scene = Scene(**kw, phi=0.16, solver=ONE)
     model = build_scene_model(scene)
     sc = model.scaling
-    tol_p = 1e-6 * model.sigma_c
+    # the contact-set update detaches below -(sigma_c + 1e3 cg_tol sigma_c) (loading.py): the
+    # tolerance an attached element may sit beyond sigma_c at convergence
+    tol_p = 1.01e3 * scene.solver.cg_tol * model.sigma_c
     drv = PathDriver(model)
     loading = CurveRecorder()
     snap = drv.load([kw["F_P"] * sc.F_c], "F", loading)[0]
