@@ -32,6 +32,7 @@ from .errors import NoConvergenceError
 from .kernels import compiled as kern
 
 _MAX_RELAX_PASSES = 100_000
+_MAX_SNAPSHOT_PASSES = 1000
 
 
 @dataclass
@@ -236,21 +237,35 @@ class PathDriver:
         self.d = saved["d"]
         self._since_full = saved["_since_full"]
 
-    def snapshot_ahead(self, dist: float, n_points: int) -> Snapshot:
+    def snapshot_ahead(self, dist: float, n_points: int, force_target: float | None = None
+                       ) -> Snapshot:
         """The consistent state ``dist`` further along the path, without touching the path.
 
-        The state is moved there on the current set, the elements whose events have been reached
-        flip and the set is relaxed (so the preload state has no penetrating free element), then
-        every array is put back bit for bit: the path does not depend on which preloads are
-        requested, and grouped preloads give exactly what separate runs give.
+        The state is moved there on the current set; elements whose events lie *before* it (by
+        more than 1e-9 d_c: passed inside an event batch) flip and the set is relaxed, so the
+        preload state has no penetrating free element; an event exactly at the preload does not
+        flip, so a request that lands on an event is met exactly instead of by rounding. For a
+        force preload (``force_target``) the state is then moved along the new set until the force
+        equals the request again (repeated while that passes further events). Finally every array
+        is put back bit for bit: the path does not depend on which preloads are requested, and
+        grouped preloads give exactly what separate runs give.
         """
         saved = self._save()
         self.move(abs(dist), 1.0 if dist >= 0 else -1.0)
-        hair = 1e-12 * self.model.scaling.d_c
-        if kern.flip_events(self.p, self.p1, self.g, self.g1, self.att, self.model.sigma_c,
-                            1.0, hair) != (0, 0) and dist > 0:
+        passed = -1e-9 * self.model.scaling.d_c
+        for _ in range(_MAX_SNAPSHOT_PASSES):
+            if dist <= 0 or kern.flip_events(self.p, self.p1, self.g, self.g1, self.att,
+                                             self.model.sigma_c, 1.0, passed) == (0, 0):
+                break
             self.relax()
             self.solve_direction()
+            f1 = float(self.f1.sum())
+            if force_target is None or not f1 > 0:
+                break
+            step = (force_target - self.force()) / f1
+            self.move(abs(step), 1.0 if step >= 0 else -1.0)
+        else:
+            raise NoConvergenceError("the preload state did not settle")
         snap = Snapshot(self.d, self.p.copy(), self.u.copy(), self.att.copy(), self.p1.copy(),
                         self.u1.copy(), n_points,
                         (self.d, self.force(), self.n_attached(), self.pillars_in_contact()))
@@ -346,7 +361,9 @@ class PathDriver:
 
         def take(reach):
             while pending and distance_to(pending[0]) <= reach:
-                snaps.append(self.snapshot_ahead(distance_to(pending.pop(0)), len(curve.d)))
+                target = pending.pop(0)
+                snaps.append(self.snapshot_ahead(distance_to(target), len(curve.d),
+                                                 target if kind == "F" else None))
 
         while pending:
             dist = self.next_event(+1.0)

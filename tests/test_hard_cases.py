@@ -357,9 +357,8 @@ def test_property_random_small_scenes(kw):
     d, F, _, _ = loading.arrays()
     assert np.all(np.isfinite(F)) and np.all(np.diff(d) >= -1e-12 * sc.d_c)
     assert np.all(np.diff(F) >= -1e-7 * sc.F_c)                   # loading: F non-decreasing
-    # the preload force: exact (1e-9) unless a contact event falls at the preload, where it
-    # misses by up to 0.4 % (a known solver bug, reproduced by the xfail test below)
-    assert snap.point[1] == pytest.approx(kw["F_P"] * sc.F_c, rel=1e-2)
+    # the preload force is met exactly, also where a contact event falls at the preload
+    assert snap.point[1] == pytest.approx(kw["F_P"] * sc.F_c, rel=1e-9)
     # unloading, checked after every equilibrated event
     drv.restore(snap)
     check_state()
@@ -373,23 +372,19 @@ def test_property_random_small_scenes(kw):
         best = min(best, min(curve.F))
     F_A = max(0.0, -best / sc.F_c)
     assert math.isfinite(F_A) and F_A >= 0
-    # through the public API (not compared with the path above to the last digits: where an
-    # event falls at the preload, rounding decides which side of it the snapshot lands on)
+    # through the public API
     r = simulate(scene)
     assert r.status == "ok" and r.main.F_A >= 0 and math.isfinite(r.main.F_A)
     assert np.all(np.isfinite(r.main.unloading.F_tilde))
 
 
-@pytest.mark.xfail(strict=True, reason="solver (loading.py snapshot_ahead): when a contact event "
-                   "falls at a force-controlled preload inside an event batch, the snapshot flips "
-                   "and relaxes at the target d, so F~_P misses the request (1e-5 to 0.4 %)")
 @pytest.mark.parametrize("epd,sigma,seed,F_P", [(5, 0.375, 1123967, 0.751953125),
                                                 (3, 0.5, 288, 0.0625)])
 def test_force_preload_with_an_event_at_the_preload_hits_the_requested_force(epd, sigma, seed,
                                                                             F_P):
-    """Found by the property test; run in a fresh process (deterministic there): rigid 3 x 3
-    brushes whose preload falls on a contact event give F~_P = 0.7519614 for 0.751953125 and
-    0.0627 for 0.0625 (loading.py, snapshot_ahead: flip + relax at the target d)."""
+    """Found by the property test (run in a fresh process): rigid 3 x 3 brushes whose preload
+    falls on a contact event gave F~_P = 0.7519614 for 0.751953125 and 0.0627 for 0.0625 before
+    snapshot_ahead stopped flipping elements whose event lies exactly at the preload."""
     code = ("import math; from fibril_hpc import Scene, simulate; "
             f"r = simulate(Scene(n_side=3, elements_per_diameter={epd}, k_tilde=math.inf, "
             f"sigma_tilde={sigma}, seed={seed}, F_P={F_P}, solver={{'fft_threads': 1}})); "
