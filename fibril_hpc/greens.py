@@ -56,10 +56,28 @@ def love(x, y, h, e_star=E_STAR):
     return s / (math.pi * e_star)
 
 
+#: Relative cost per radix pass of FFTW's codelets (rough, per log2 of the factor's work).
+_RADIX_COST = {2: 1.0, 3: 1.7, 5: 2.6, 7: 3.6}
+
+
+def _fft_cost(m: int) -> float:
+    """Rough cost model of a real 2-D FFT of side m: m^2 times the summed radix costs, with odd
+    sides (slow real transforms) penalised."""
+    k, total = m, 0.0
+    for p, w in _RADIX_COST.items():
+        while k % p == 0:
+            k //= p
+            total += w
+    return m * m * total * (1.0 if m % 2 == 0 else 1.3)
+
+
 def padded_size(n: int) -> int:
-    """Smallest 2^a 3^b 5^c 7^d >= 2n - 1: the FFT size of the non-periodic product on n x n."""
+    """FFT side of the non-periodic product on n x n: the 7-smooth size >= 2n - 1 (at most 15 %
+    above it) that the cost model ranks cheapest. Odd and 5^k-heavy sizes are avoided: at the
+    default brush (2n - 1 = 611), 640 instead of 625 made a CG iteration 1.4-1.6x faster
+    (measured by fibril-bench)."""
     need = 2 * n - 1
-    best = None
+    cands = []
     p2 = 1
     while p2 < 2 * need:
         p3 = p2
@@ -68,13 +86,15 @@ def padded_size(n: int) -> int:
             while p5 < 2 * need:
                 p7 = p5
                 while p7 < 2 * need:
-                    if p7 >= need and (best is None or p7 < best):
-                        best = p7
+                    if p7 >= need:
+                        cands.append(p7)
                     p7 *= 7
                 p5 *= 5
             p3 *= 3
         p2 *= 2
-    return best
+    smallest = min(cands)
+    window = [m for m in cands if m <= max(smallest, int(1.15 * need))]
+    return min(window, key=lambda m: (_fft_cost(m), m))
 
 
 def wrapped_kernel(n: int, m: int, h: float, e_star=E_STAR) -> np.ndarray:
