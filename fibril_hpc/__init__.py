@@ -15,4 +15,4 @@ from .api import simulate  # noqa: E402
 from .campaign.data import load_campaign  # noqa: E402
 
 __all__ = ["Scene", "SolverOptions", "scene_from_dict", "simulate", "ConfigError",
-           "FibrilError", "NoConvergenceError", "StoreError", "__version__"]
+           "FibrilError", "NoConvergenceError", "StoreError", "load_campaign", "__version__"]
