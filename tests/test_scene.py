@@ -48,14 +48,6 @@ def test_inf_and_lists_are_accepted():
     assert s.replace(F_P=3).d_tilde is None
 
 
-def test_default_threads_share_cpus_among_local_ranks():
-    import os
-
-    from fibril_hpc.scene import default_threads
-
-    cpus = len(os.sched_getaffinity(0))
-    assert default_threads({}) == cpus
-    assert default_threads({"MPI_LOCALNRANKS": str(cpus)}) == 1
-    assert default_threads({"OMPI_COMM_WORLD_LOCAL_SIZE": "1000"}) == 1
-    assert default_threads({"MPI_LOCALNRANKS": "2", "SLURM_CPUS_PER_TASK": "1"}) == cpus
+def test_default_fft_threads_is_one():
+    assert SolverOptions().threads == 1
     assert SolverOptions(fft_threads=3).threads == 3
