@@ -19,6 +19,7 @@ leaves nothing behind and never a half-written file.
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import json
 import os
@@ -101,17 +102,12 @@ def check_writable(path: str, field: str = "--out") -> None:
         raise ConfigError(field, path, "a file path, not a folder")
 
 
-def write_result_file(path: str, result: SimulationResult) -> None:
-    """Write a result to ``path`` atomically (temporary file + rename)."""
-    import h5py
-
-    folder = os.path.dirname(os.path.abspath(path)) or "."
-    fd, tmp = tempfile.mkstemp(prefix=".fibril-", suffix=".h5.part", dir=folder)
-    os.close(fd)
+@contextlib.contextmanager
+def discard_on_failure(tmp: str, path: str):
+    """Remove the temporary file ``tmp`` if the block fails (so nothing half-written is left);
+    an ``OSError`` becomes a one-line :class:`StoreError` naming ``path``."""
     try:
-        with h5py.File(tmp, "w") as fh:
-            write_result(fh, result)
-        os.replace(tmp, path)
+        yield
     except OSError as exc:
         if os.path.exists(tmp):
             os.unlink(tmp)
@@ -120,3 +116,16 @@ def write_result_file(path: str, result: SimulationResult) -> None:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
+
+
+def write_result_file(path: str, result: SimulationResult) -> None:
+    """Write a result to ``path`` atomically (temporary file + rename)."""
+    import h5py
+
+    folder = os.path.dirname(os.path.abspath(path)) or "."
+    fd, tmp = tempfile.mkstemp(prefix=".fibril-", suffix=".h5.part", dir=folder)
+    os.close(fd)
+    with discard_on_failure(tmp, path):
+        with h5py.File(tmp, "w") as fh:
+            write_result(fh, result)
+        os.replace(tmp, path)

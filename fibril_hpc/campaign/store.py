@@ -36,6 +36,7 @@ import h5py
 import numpy as np
 
 from ..errors import StoreError
+from ..store import discard_on_failure
 from . import journal as _journal
 
 PROGRAM = "fibril-hpc campaign"
@@ -191,7 +192,7 @@ def checkpoint(path: str, root_attrs: dict, records) -> None:
     umask = os.umask(0)
     os.umask(umask)
     os.chmod(tmp, 0o666 & ~umask)
-    try:
+    with discard_on_failure(tmp, path):
         if os.path.exists(path):
             shutil.copyfile(path, tmp)
             mode = "a"
@@ -211,14 +212,6 @@ def checkpoint(path: str, root_attrs: dict, records) -> None:
             os.fsync(fh.fileno())
         os.replace(tmp, path)
         _fsync_dir(folder)
-    except OSError as exc:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise StoreError(f"cannot write {path}: {exc}") from None
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def root_attrs_for(spec, extended_from=None) -> dict:
