@@ -92,3 +92,21 @@ def test_old_file_resumes_with_same_layout(tmp_path):
         assert after[k]["record_id"] == old["record_id"]
         assert repr(after[k]["F_A"]) == repr(old["F_A"])
     assert all(after[k]["status"] == "done" for k in KEYS)
+
+
+def test_record_schema_derives_every_list():
+    from fibril_hpc.campaign.record import COLUMNS, CURVE_KEYS, SCALAR_KEYS, JobRecord
+
+    assert set(SCALAR_KEYS) == set(JOB_ATTRS) and set(CURVE_KEYS) == CURVES
+    # the CSV header / load_campaign table of 0.1.0, in its order
+    assert COLUMNS == ("key", "k_tilde", "sigma_tilde", "preload_kind", "preload", "seed",
+                       "status", "message", "F_P", "F_A", "d_tilde_max", "d_tilde_at_F_A",
+                       "n_pillars_in_contact_max", "events", "wall_s", "cg_iterations",
+                       "cg_solves", "fft_pairs", "group_size", "rank", "host", "finished",
+                       "record_id")
+    with h5py.File(os.path.join(DATA, "campaign_v1.h5"), "r") as fh:
+        g = fh["jobs"]["9a5a5bc296898b92"]
+        stored = {k: v for k, v in g.attrs.items()}
+    rec = JobRecord.from_dict(stored).to_dict()
+    assert rec.pop("type") == "job"
+    assert {k for k, v in rec.items() if v is not None} == set(stored)
