@@ -14,35 +14,40 @@ Layout of one result group (a file root for ``fibril-run --out``, or a job group
         let_go_d_tilde                                   per pillar (nan: never touched)
 
 Files are written to a temporary name beside the target and renamed into place, so a failure
-leaves nothing behind and never a half-written file.
+leaves nothing behind and never a half-written file. :func:`read_result_file` reads a file back
+into a :class:`~fibril_hpc.results.SimulationResult`.
 """
 
 from __future__ import annotations
 
-import contextlib
 import datetime as _dt
 import json
 import os
 import tempfile
 
 import numpy as np
+import yaml
 
 from .config import scene_to_yaml
 from .errors import StoreError
-from .results import SimulationResult, _json_safe
+from .files import discard_on_failure
+from .results import Curve, PillarState, PreloadResult, SimulationResult, json_safe
+from .scene import scene_from_dict
 
 PROGRAM = "fibril-hpc"
+CURVE_FIELDS = ("d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact")
+STATE_FIELDS = ("force", "elongation", "contact_map", "pressure_map")
 
 
 def _attrs_json(obj) -> str:
-    return json.dumps(_json_safe(obj), sort_keys=True)
+    return json.dumps(json_safe(obj), sort_keys=True)
 
 
 def _write_curve(group, name, curve):
     if curve is None:
         return
     g = group.create_group(name)
-    for key in ("d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact"):
+    for key in CURVE_FIELDS:
         g.create_dataset(key, data=np.asarray(getattr(curve, key)))
 
 
@@ -59,7 +64,7 @@ def _write_state(group, name, state):
 
 def write_result(group, result: SimulationResult) -> None:
     """Write one simulation into an (empty) h5py group."""
-    from . import __version__
+    from ._version import __version__
 
     a = group.attrs
     a["program"] = PROGRAM
@@ -89,35 +94,6 @@ def write_result(group, result: SimulationResult) -> None:
             g.create_dataset("let_go_d_tilde", data=r.let_go_d_tilde)
 
 
-def check_writable(path: str, field: str = "--out") -> None:
-    """Raise a ConfigError early if ``path`` cannot be created (missing folder, no permission)."""
-    from .errors import ConfigError
-
-    folder = os.path.dirname(os.path.abspath(path)) or "."
-    if not os.path.isdir(folder):
-        raise ConfigError(field, path, "a path in an existing folder")
-    if not os.access(folder, os.W_OK):
-        raise ConfigError(field, path, "a path in a writable folder")
-    if os.path.isdir(path):
-        raise ConfigError(field, path, "a file path, not a folder")
-
-
-@contextlib.contextmanager
-def discard_on_failure(tmp: str, path: str):
-    """Remove the temporary file ``tmp`` if the block fails (so nothing half-written is left);
-    an ``OSError`` becomes a one-line :class:`StoreError` naming ``path``."""
-    try:
-        yield
-    except OSError as exc:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise StoreError(f"cannot write {path}: {exc}") from None
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def write_result_file(path: str, result: SimulationResult) -> None:
     """Write a result to ``path`` atomically (temporary file + rename)."""
     import h5py
@@ -129,3 +105,83 @@ def write_result_file(path: str, result: SimulationResult) -> None:
         with h5py.File(tmp, "w") as fh:
             write_result(fh, result)
         os.replace(tmp, path)
+
+
+# ------------------------------------------------------------------------------------ reading
+_NONFINITE = {"nan": float("nan"), "inf": float("inf"), "-inf": float("-inf")}
+
+
+def _unsafe(obj):
+    """Undo :func:`~fibril_hpc.results.json_safe`: "nan"/"inf"/"-inf" strings become floats."""
+    if isinstance(obj, dict):
+        return {k: _unsafe(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_unsafe(v) for v in obj]
+    if isinstance(obj, str) and obj in _NONFINITE:
+        return _NONFINITE[obj]
+    return obj
+
+
+def _text(v):
+    return v.decode() if isinstance(v, bytes) else v
+
+
+def _scalar(v):
+    v = _text(v)
+    return v.item() if isinstance(v, np.generic) else v
+
+
+def _read_curve(group, name):
+    if name not in group:
+        return None
+    g = group[name]
+    return Curve(*(g[k][()] for k in CURVE_FIELDS))
+
+
+def _read_state(group, name):
+    if name not in group:
+        return None
+    g = group[name]
+    return PillarState(*(g[k][()] for k in STATE_FIELDS), d_tilde=float(g.attrs["d_tilde"]))
+
+
+def read_result(group) -> SimulationResult:
+    """Read one simulation written by :func:`write_result` from an h5py group."""
+    a = group.attrs
+    if _text(a.get("program")) != PROGRAM:
+        raise StoreError(f"{group.file.filename}: not a fibril-run result file")
+    res = SimulationResult(
+        scene=scene_from_dict(yaml.safe_load(_text(a["scene_yaml"]))),
+        status=_text(a["status"]), message=_text(a["message"]),
+        **{k: _unsafe(json.loads(_text(a[k])))
+           for k in ("discretisation", "stats", "versions", "definitions")})
+    if "pillars" in group:
+        res.xi = group["pillars"]["xi"][()]
+        res.zeta_tilde = group["pillars"]["zeta_tilde"][()]
+    pre = group["preloads"]
+    for i in sorted(pre, key=int):
+        g = pre[i]
+        r = PreloadResult(**{k: _scalar(v) for k, v in g.attrs.items()})
+        r.loading, r.unloading = _read_curve(g, "loading"), _read_curve(g, "unloading")
+        r.at_preload, r.at_pulloff = _read_state(g, "at_preload"), _read_state(g, "at_pulloff")
+        if "let_go_d_tilde" in g:
+            r.let_go_d_tilde = g["let_go_d_tilde"][()]
+        res.results.append(r)
+    return res
+
+
+def read_result_file(path: str) -> SimulationResult:
+    """Read a file written by ``fibril-run --out`` (or :func:`write_result_file`).
+
+    Examples
+    --------
+    >>> r = read_result_file("out.h5")                  # doctest: +SKIP
+    >>> r.main.F_A, r.main.unloading.F_tilde            # doctest: +SKIP
+    """
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as fh:
+            return read_result(fh)
+    except OSError as exc:
+        raise StoreError(f"cannot open {path} as HDF5: {exc}") from None
