@@ -46,3 +46,32 @@ EXIT_FAILED = 1
 EXIT_USAGE = 2
 #: interrupted by a stop signal (EX_TEMPFAIL): rerun the same command to resume
 EXIT_INTERRUPTED = 75
+
+
+class DamagedFileError(StoreError):
+    """A file's HDF5 structure cannot be read (one line; ``fibril-campaign salvage`` helps)."""
+
+
+class DiskFull(StoreError):
+    """No space (ENOSPC) or quota (EDQUOT) left while writing: an interruption, not a crash.
+
+    Parameters
+    ----------
+    path : str
+        The file being written.
+    operation : str
+        What was being done ("appending to the journal", "checkpoint copy", ...).
+    detail : str
+        The operating system's words (or the free-space arithmetic).
+    """
+
+    def __init__(self, path, operation, detail=""):
+        self.path = path
+        self.operation = operation
+        super().__init__(f"disk full during {operation} of {path}"
+                         + (f" ({detail})" if detail else "")
+                         + "; free space (or quota) and rerun the same command to resume")
+
+
+#: errno values that mean "no room left" (ENOSPC, EDQUOT)
+FULL_ERRNOS = (28, 122)

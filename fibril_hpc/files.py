@@ -6,7 +6,7 @@ from __future__ import annotations
 import contextlib
 import os
 
-from .errors import ConfigError, StoreError
+from .errors import FULL_ERRNOS, ConfigError, DiskFull, StoreError
 
 
 def check_writable(path: str, field: str = "--out") -> None:
@@ -29,16 +29,21 @@ def check_writable(path: str, field: str = "--out") -> None:
 
 
 @contextlib.contextmanager
-def discard_on_failure(tmp: str, path: str):
+def discard_on_failure(tmp: str, path: str, operation: str = "writing"):
     """Remove the temporary file ``tmp`` if the block fails (nothing half-written is left).
 
-    An ``OSError`` becomes a one-line :class:`StoreError` naming ``path``.
+    An ``OSError`` becomes a one-line :class:`StoreError` naming ``path`` (a
+    :class:`DiskFull` naming ``operation`` when no space or quota is left).
     """
     try:
         yield
     except OSError as exc:
         if os.path.exists(tmp):
             os.unlink(tmp)
+        if isinstance(exc, StoreError):
+            raise
+        if exc.errno in FULL_ERRNOS:
+            raise DiskFull(path, operation, exc.strerror or str(exc)) from None
         raise StoreError(f"cannot write {path}: {exc}") from None
     except BaseException:
         if os.path.exists(tmp):
@@ -60,4 +65,48 @@ def fsync_dir(folder: str) -> None:
         os.close(fd)
 
 
-__all__ = ["check_writable", "discard_on_failure", "fsync_dir"]
+def free_bytes(folder: str) -> int:
+    """Bytes an unprivileged writer may still use in ``folder`` (-1 when unknown)."""
+    try:
+        st = os.statvfs(folder)
+    except OSError:  # pragma: no cover
+        return -1
+    return st.f_bavail * st.f_frsize
+
+
+def write_bytes_atomically(path: str, data: bytes, operation: str, tmp_prefix: str) -> None:
+    """Write ``data`` to a temporary file beside ``path``, ``fsync``, rename over ``path``.
+
+    The free space is checked first; ENOSPC/EDQUOT at any step becomes :class:`DiskFull`
+    naming ``path`` and ``operation``, and the temporary file is removed.
+    """
+    import tempfile
+
+    folder = os.path.dirname(os.path.abspath(path)) or "."
+    free = free_bytes(folder)
+    margin = 1 << 20
+    if 0 <= free < len(data) + margin:
+        raise DiskFull(path, operation, f"{len(data) + margin} bytes needed, {free} free")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=tmp_prefix, dir=folder)
+    except OSError as exc:
+        if exc.errno in FULL_ERRNOS:
+            raise DiskFull(path, operation, exc.strerror) from None
+        raise StoreError(f"cannot write {path}: {exc}") from None
+    with discard_on_failure(tmp, path, operation):
+        try:
+            umask = os.umask(0)
+            os.umask(umask)
+            os.fchmod(fd, 0o666 & ~umask)
+            view = memoryview(data)
+            while view:
+                view = view[os.write(fd, view):]
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+        fsync_dir(folder)
+
+
+__all__ = ["check_writable", "discard_on_failure", "fsync_dir", "free_bytes",
+           "write_bytes_atomically"]

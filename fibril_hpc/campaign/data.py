@@ -22,12 +22,16 @@ class CampaignData:
         of arrays ``d_tilde``, ``F_tilde``, ``contact_fraction``, ``n_pillars_in_contact``).
     pending_in_journal : int
         Records finished but not yet folded into the HDF5 file (read from the journal).
+    corrupt : dict
+        Job key -> why, for records of the file that failed their checksum or could not be
+        read: they are *not* in :attr:`jobs` (a warning is logged; resume recomputes them).
     """
 
-    def __init__(self, meta, jobs, pending_in_journal=0):
+    def __init__(self, meta, jobs, pending_in_journal=0, corrupt=None):
         self.meta = meta
         self.jobs = jobs
         self.pending_in_journal = pending_in_journal
+        self.corrupt = dict(corrupt or {})
 
     def __len__(self):
         return len(self.jobs)
@@ -81,12 +85,12 @@ def load_campaign(path: str, curves: bool = True) -> CampaignData:
     >>> done = c.select(status="done", k_tilde=0.01)        # doctest: +SKIP
     >>> [(j["F_P"], j["F_A"]) for j in done]                # doctest: +SKIP
     """
-    from .store import read_records
+    from .store import read_snapshot
 
-    meta, recs, pending = read_records(path, curves=curves)
-    if not meta:
+    snap = read_snapshot(path, curves=curves)
+    if not snap.root:
         from ..errors import StoreError
 
         raise StoreError(f"{path}: no campaign file here")
-    jobs = sorted(recs.values(), key=_sort_key)
-    return CampaignData(meta, jobs, pending)
+    jobs = sorted(snap.records.values(), key=_sort_key)
+    return CampaignData(snap.root, jobs, snap.pending, snap.corrupt)

@@ -56,7 +56,8 @@ DTYPES = frozenset(np.dtype(t).str for t in ("f8", "f4", "i8", "i4", "i2", "i1",
 
 
 def journal_path(output: str) -> str:
-    return output + ".journal"
+    """The journal beside a campaign file (of its resolved path: symlinks are followed)."""
+    return os.path.realpath(output) + ".journal"
 
 
 def quarantine_path(output_journal: str) -> str:

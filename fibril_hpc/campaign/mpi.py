@@ -18,7 +18,7 @@ import sys
 import time
 from collections import deque
 
-from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
+from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, DiskFull
 from ..model import OperatorCache
 from .control import Interrupted, StopFlag, interrupted_message
 from .execute import execute_task
@@ -49,18 +49,31 @@ def _wait_message(comm, source, tag, stop=None):
 
 def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.0,
                progress=True, grace_s=120.0) -> int:
-    from mpi4py import MPI
-
-    size = comm.Get_size()
     try:
         writer = CampaignWriter(spec, extend=extend, checkpoint_s=checkpoint_s)
     except Exception as exc:
         comm.bcast(("error", EXIT_USAGE), root=0)
         raise exc
     comm.bcast(("ok", spec.campaign_hash), root=0)
+    try:
+        return _serve(comm, spec, writer, retry_failed, progress, grace_s)
+    except Exception as exc:  # noqa: BLE001 - never leave workers waiting for ever
+        print(f"fibril-campaign: error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        sys.stderr.flush()
+        comm.Abort(EXIT_FAILED)
+        raise  # pragma: no cover - Abort does not return
+
+
+def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
+    """Hand out tasks, write results; stop on a signal or a full disk; release every worker."""
+    from mpi4py import MPI
+
+    size = comm.Get_size()
     stop = StopFlag().install()
     code = EXIT_OK
     busy: dict = {}
+    full = None
+    queue: deque = deque()
     try:
         todo = writer.keys_to_run(retry_failed)
         queue = deque(order_tasks(spec.tasks(todo)))
@@ -84,8 +97,11 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
                     comm.send(("task", busy[src]), dest=src, tag=TAG_TASK)
                 else:
                     idle.append(src)
-                if recs is not None:
-                    writer.add(recs)
+                if recs is not None and full is None:
+                    try:
+                        writer.add(recs)
+                    except DiskFull as exc:     # stop handing out; jobs in flight are lost
+                        full, stop.stop = exc, True
                     prog.update(recs, running=len(busy))
                 continue
             if stop.stop:
@@ -96,20 +112,30 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
                     break
             time.sleep(POLL_S)
             prog.show()
-            writer.checkpoint()
+            if full is None:
+                try:
+                    writer.checkpoint()
+                except DiskFull as exc:
+                    full, stop.stop = exc, True
         prog.show(force=True)
         prog.finish()
-        interrupted = stop.stop or bool(queue)
-        if interrupted:
+        if stop.stop or queue:
             code = EXIT_INTERRUPTED
         else:
             c = writer.counts()
             code = EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED
     finally:
         stop.busy = False
-        writer.close()
-        stop.restore()
-    if code == EXIT_INTERRUPTED:
+        try:
+            writer.close()
+        except DiskFull as exc:           # the records stay in the journal
+            full = full or exc
+            code = EXIT_INTERRUPTED
+        finally:
+            stop.restore()
+    if full is not None:
+        print(f"fibril-campaign: {full}", file=sys.stderr)
+    elif code == EXIT_INTERRUPTED:
         print(interrupted_message(spec.output, stop.signum), file=sys.stderr)
     for r in range(1, size):
         if r not in busy:

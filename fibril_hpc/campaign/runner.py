@@ -9,7 +9,7 @@ from __future__ import annotations
 import logging
 import sys
 
-from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK
+from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, DiskFull
 from ..model import OperatorCache
 from .control import Interrupted, StopFlag, interrupted_message
 from .execute import execute_task
@@ -49,6 +49,7 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
     writer = CampaignWriter(spec, extend=extend, checkpoint_s=checkpoint_s)
     stop = StopFlag().install()
     interrupted = False
+    full = None
     try:
         todo = writer.keys_to_run(retry_failed)
         tasks = order_tasks(spec.tasks(todo))
@@ -65,7 +66,11 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
             except Interrupted:
                 interrupted = True
                 break
-            writer.add(recs)
+            try:
+                writer.add(recs)
+            except DiskFull as exc:       # an interruption: the records of this task are lost
+                full = exc
+                break
             prog.update(recs, running=0)
         interrupted = interrupted or stop.stop
         partial = max_tasks is not None and len(tasks) > max_tasks
@@ -75,8 +80,13 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
         stop.busy = False
         try:
             writer.close()
+        except DiskFull as exc:           # the records stay in the journal
+            full = full or exc
         finally:
             stop.restore()
+    if full is not None:
+        print(f"fibril-campaign: {full}", file=sys.stderr)
+        return EXIT_INTERRUPTED
     if interrupted or partial:
         print(interrupted_message(spec.output, stop.signum), file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -27,18 +27,22 @@ from __future__ import annotations
 
 import datetime as _dt
 import glob
+import io
 import json
+import logging
 import os
-import shutil
-import tempfile
+from dataclasses import dataclass, field
 
 import h5py
 import numpy as np
 
-from ..errors import StoreError
-from ..files import discard_on_failure, fsync_dir
+from ..errors import DamagedFileError, StoreError
+from ..files import write_bytes_atomically
+from . import integrity
 from . import journal as _journal
 from .record import BRANCHES, CURVE_KEYS, SCALAR_KEYS
+
+log = logging.getLogger(__name__)
 
 PROGRAM = "fibril-hpc campaign"
 FORMAT_VERSION = 1
@@ -64,8 +68,15 @@ def is_campaign_file(path: str) -> bool:
     try:
         with h5py.File(path, "r") as fh:
             return fh.attrs.get("program") == PROGRAM
-    except OSError:
+    except Exception:  # noqa: BLE001 - a damaged file raises many kinds of error
         return False
+
+
+def _damaged(path: str, exc) -> DamagedFileError:
+    return DamagedFileError(
+        f"{path}: the HDF5 structure is damaged ({type(exc).__name__}: "
+        f"{str(exc).splitlines()[0][:160] if str(exc) else ''}); "
+        f"`fibril-campaign salvage {path} -o NEW.h5` copies every readable, verified record")
 
 
 def read_root(path: str) -> dict:
@@ -73,38 +84,141 @@ def read_root(path: str) -> dict:
     try:
         with h5py.File(path, "r") as fh:
             attrs = {k: _attr(v) for k, v in fh.attrs.items()}
-    except OSError as exc:
+    except FileNotFoundError:
+        raise StoreError(f"cannot open {path}: no such file") from None
+    except Exception as exc:  # noqa: BLE001
+        if _is_hdf5(path):
+            raise _damaged(path, exc) from None
         raise StoreError(f"cannot open {path} as HDF5: {exc}") from None
     if attrs.get("program") != PROGRAM:
         raise StoreError(f"{path} is not a fibril-hpc campaign file")
     return attrs
 
 
-def _read_group(g, curves: bool) -> dict:
+def _is_hdf5(path: str) -> bool:
+    """Whether ``path`` starts like an HDF5 file (signature at offset 0)."""
+    try:
+        with open(path, "rb") as fh:
+            return fh.read(8) == b"\x89HDF\r\n\x1a\n"
+    except OSError:
+        return False
+
+
+def _read_group(g) -> dict:
     rec = {k: _attr(v) for k, v in g.attrs.items()}
-    if curves:
-        for branch in BRANCHES:
-            if branch in g:
-                rec[branch] = {k: g[branch][k][()] for k in CURVE_KEYS if k in g[branch]}
-            else:
-                rec[branch] = None
+    for branch in BRANCHES:
+        if branch in g:
+            rec[branch] = {k: g[branch][k][()] for k in CURVE_KEYS if k in g[branch]}
+        else:
+            rec[branch] = None
     return rec
 
 
-def read_h5_records(path: str, curves: bool = True) -> tuple[dict, dict]:
-    """(root attrs, {key: record}) from the HDF5 file alone."""
+@dataclass
+class H5Read:
+    """What the HDF5 file holds: verified (or unchecked, older) records and the corrupt ones."""
+
+    root: dict = field(default_factory=dict)
+    records: dict = field(default_factory=dict)
+    corrupt: dict = field(default_factory=dict)      # key -> why
+    unchecked: int = 0
+
+
+def read_h5_checked(path: str, curves: bool = True, tolerant: bool = False) -> H5Read:
+    """Every record of the HDF5 file, each checked against its checksum (see
+    :mod:`.integrity`). A record that does not match, or cannot be read, is left out and listed
+    in ``corrupt``; a damaged file structure raises :class:`DamagedFileError` (one line) unless
+    ``tolerant`` (salvage: take whatever still reads, attribute by attribute)."""
+    out = H5Read()
     if not os.path.exists(path):
-        return {}, {}
+        return out
     try:
-        with h5py.File(path, "r") as fh:
-            root = {k: _attr(v) for k, v in fh.attrs.items()}
-            if root.get("program") != PROGRAM:
-                raise StoreError(f"{path} is not a fibril-hpc campaign file")
-            jobs = fh.get("jobs")
-            recs = {} if jobs is None else {k: _read_group(jobs[k], curves) for k in jobs}
-    except OSError as exc:
+        fh = h5py.File(path, "r")
+    except Exception as exc:  # noqa: BLE001
+        if tolerant:
+            return out
+        if _is_hdf5(path):
+            raise _damaged(path, exc) from None
         raise StoreError(f"cannot open {path} as HDF5: {exc}") from None
-    return root, recs
+    with fh:
+        try:
+            out.root = _root_attrs(fh, tolerant)
+            jobs = fh.get("jobs")
+            keys = _job_names(jobs, tolerant)
+        except Exception as exc:  # noqa: BLE001
+            raise _damaged(path, exc) from None
+        if out.root.get("program") != PROGRAM and not tolerant:
+            raise StoreError(f"{path} is not a fibril-hpc campaign file")
+        for k in keys:
+            try:
+                rec = _read_group(jobs[k])
+            except Exception as exc:  # noqa: BLE001 - a damaged group is one corrupt record
+                out.corrupt[k] = f"unreadable ({type(exc).__name__})"
+                continue
+            state = integrity.check(rec)
+            if state == integrity.CORRUPT or rec.get("key", k) != k:
+                out.corrupt[k] = "checksum mismatch"
+                continue
+            out.unchecked += state == integrity.UNCHECKED
+            if not curves:
+                rec.pop("loading", None)
+                rec.pop("unloading", None)
+            out.records[k] = rec
+    return out
+
+
+def _root_attrs(fh, tolerant: bool) -> dict:
+    if not tolerant:
+        return {k: _attr(v) for k, v in fh.attrs.items()}
+    out = {}
+    try:
+        names = list(fh.attrs)
+    except Exception:  # noqa: BLE001
+        return out
+    for k in names:
+        try:
+            out[k] = _attr(fh.attrs[k])
+        except Exception:  # noqa: BLE001 - a damaged attribute is left out
+            pass
+    return out
+
+
+def _job_names(jobs, tolerant: bool) -> list:
+    if jobs is None:
+        return []
+    if not tolerant:
+        return list(jobs)
+    names = []
+    try:
+        n = jobs.id.get_num_objs()
+    except Exception:  # noqa: BLE001
+        return names
+    for i in range(n):
+        try:
+            names.append(jobs.id.get_objname_by_idx(i).decode())
+        except Exception:  # noqa: BLE001 - a damaged link is skipped
+            pass
+    return names
+
+
+def read_h5_salvage(path: str) -> H5Read:
+    """Whatever still reads and verifies in a damaged campaign file (see :mod:`.verify`)."""
+    return read_h5_checked(path, curves=True, tolerant=True)
+
+
+def _warn_corrupt(path: str, got: H5Read) -> None:
+    if got.corrupt:
+        keys = sorted(got.corrupt)
+        log.warning("%s: %d corrupt record(s) left out (%s%s); `fibril-campaign verify %s` lists "
+                    "them, resuming recomputes them", path, len(keys), ", ".join(keys[:3]),
+                    " ..." if len(keys) > 3 else "", path)
+
+
+def read_h5_records(path: str, curves: bool = True) -> tuple[dict, dict]:
+    """(root attrs, {key: record}) from the HDF5 file alone (corrupt records left out)."""
+    got = read_h5_checked(path, curves)
+    _warn_corrupt(path, got)
+    return got.root, got.records
 
 
 def newer(new: dict, old: dict | None) -> bool:
@@ -116,41 +230,81 @@ def newer(new: dict, old: dict | None) -> bool:
     return old.get("status") != "done"
 
 
-def read_records(path: str, curves: bool = True) -> tuple[dict, dict, int]:
-    """(root attrs, {key: record}, number of records still only in the journal): what a reader
-    sees while a campaign runs. The journal is read first so that a checkpoint that happens
-    in between cannot hide a record."""
-    jrecs, _ = _journal.read(_journal.journal_path(path))
-    root, recs = read_h5_records(path, curves)
+def accepted_hashes(root: dict) -> set | None:
+    """Campaign hashes whose journal frames belong to the file with root attributes ``root``
+    (None when there is no file yet: the writer decides)."""
+    if not root:
+        return None
+    out = {root.get("campaign_hash")}
+    try:
+        out |= {h.get("campaign_hash") for h in json.loads(root.get("extended_from", "[]"))}
+    except (ValueError, TypeError, AttributeError):
+        pass
+    return {h for h in out if h}
+
+
+@dataclass
+class Snapshot:
+    """What a reader sees: root attrs, {key: record}, records only in the journal, corrupt
+    records of the HDF5 file, unchecked (pre-checksum) records, the journal scan."""
+
+    root: dict
+    records: dict
+    pending: int
+    corrupt: dict
+    unchecked: int
+    journal: object
+
+
+def read_snapshot(path: str, curves: bool = True) -> Snapshot:
+    """Journal + HDF5 file, as a reader sees them while a campaign runs. The journal bytes are
+    read first so that a checkpoint that happens in between cannot hide a record."""
+    jdata = _journal.read_bytes(_journal.journal_path(path))
+    got = read_h5_checked(path, curves)
+    _warn_corrupt(path, got)
+    scan = _journal.scan(jdata, accepted_hashes(got.root))
+    msg = scan.message(_journal.journal_path(path))
+    if msg:
+        log.warning("%s", msg)
+    recs = got.records
     pending = 0
-    for r in jrecs:
-        if r.get("type") != "job":
-            continue
+    for _, _, r in scan.records:
         r = dict(r)
-        r.pop("type")
+        r.pop("type", None)
         if newer(r, recs.get(r["key"])):
             if not curves:
                 r.pop("loading", None)
                 r.pop("unloading", None)
             recs[r["key"]] = r
             pending += 1
-    return root, recs, pending
+    return Snapshot(got.root, recs, pending, got.corrupt, got.unchecked, scan)
+
+
+def read_records(path: str, curves: bool = True) -> tuple[dict, dict, int]:
+    """(root attrs, {key: record}, number of records still only in the journal)."""
+    s = read_snapshot(path, curves)
+    return s.root, s.records, s.pending
 
 
 def _write_record(jobs, rec: dict) -> None:
     key = rec["key"]
     if key in jobs:
         del jobs[key]
-    g = jobs.create_group(key)
-    for k in SCALAR_KEYS:
-        if k in rec and rec[k] is not None:
-            g.attrs[k] = rec[k]
+    stored = {k: rec[k] for k in SCALAR_KEYS if k in rec and rec[k] is not None}
     for branch in BRANCHES:
         c = rec.get(branch)
+        stored[branch] = None if c is None else {k: np.asarray(c[k]) for k in CURVE_KEYS}
+    stored = integrity.seal(stored)
+    g = jobs.create_group(key)
+    for k, v in stored.items():
+        if k not in BRANCHES:
+            g.attrs[k] = v
+    for branch in BRANCHES:
+        c = stored[branch]
         if c is not None:
             cg = g.create_group(branch)
             for k in CURVE_KEYS:
-                cg.create_dataset(k, data=np.asarray(c[k]))
+                cg.create_dataset(k, data=c[k])
 
 
 def clean_temporaries(path: str) -> None:
@@ -163,37 +317,41 @@ def clean_temporaries(path: str) -> None:
             pass
 
 
-def checkpoint(path: str, root_attrs: dict, records) -> None:
-    """Publish ``records`` into ``path`` atomically: copy, add, fsync, rename.
+def checkpoint(path: str, root_attrs: dict, records, drop=()) -> None:
+    """Publish ``records`` into ``path`` atomically, leaving out the job groups ``drop``
+    (corrupt ones: never republished).
 
-    ``root_attrs`` are (re)set on the root; an existing file's other content is kept.
+    The new file is built in memory (libhdf5 never writes to disk, so a full disk cannot crash
+    it), then written to a temporary file beside ``path`` after a free-space check, ``fsync``-ed
+    and renamed into place. ``root_attrs`` are (re)set; the file's other content is kept.
+    ENOSPC/EDQUOT becomes :class:`DiskFull`.
     """
-    folder = os.path.dirname(os.path.abspath(path)) or "."
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".ckpt-", dir=folder)
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)
-    with discard_on_failure(tmp, path):
+    buf = io.BytesIO()
+    try:
         if os.path.exists(path):
-            shutil.copyfile(path, tmp)
-            mode = "a"
-        else:
-            mode = "w"
-        with h5py.File(tmp, mode) as fh:
+            with open(path, "rb") as fh:
+                buf.write(fh.read())
+        mode = "a" if buf.tell() else "w"
+    except OSError as exc:
+        raise StoreError(f"cannot read {path} for a checkpoint: {exc}") from None
+    try:
+        with h5py.File(buf, mode) as fh:
             if mode == "w":
                 fh.attrs["created"] = now()
                 fh.attrs["program"] = PROGRAM
             jobs = fh.require_group("jobs")
+            for key in drop:
+                if key in jobs:
+                    del jobs[key]
             for rec in records:
                 _write_record(jobs, rec)
             for k, v in root_attrs.items():
                 fh.attrs[k] = v
             fh.attrs["updated"] = now()
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-        fsync_dir(folder)
+    except (OSError, RuntimeError, KeyError, ValueError) as exc:
+        raise _damaged(path, exc) from None
+    write_bytes_atomically(path, buf.getbuffer(), "checkpoint copy",
+                           "." + os.path.basename(path) + ".ckpt-")
 
 
 def root_attrs_for(spec, extended_from=None) -> dict:
@@ -229,5 +387,6 @@ def write_merged(path: str, root_attrs: dict, records) -> None:
     checkpoint(path, root_attrs, records)
 
 
-__all__ = ["read_root", "read_records", "read_h5_records", "checkpoint", "root_attrs_for",
-           "write_merged", "is_campaign_file", "clean_temporaries", "newer"]
+__all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_snapshot",
+           "checkpoint", "root_attrs_for", "write_merged", "is_campaign_file",
+           "clean_temporaries", "newer", "accepted_hashes", "H5Read", "Snapshot"]

@@ -9,14 +9,16 @@ from __future__ import annotations
 
 import fcntl
 import json
+import logging
 import os
 import time
 
-from ..errors import ConfigError, StoreError
+from ..errors import FULL_ERRNOS, ConfigError, DiskFull, StoreError
 from ..files import check_writable
 from . import journal as _journal
 from . import store
 
+log = logging.getLogger(__name__)
 
 class CampaignWriter:
     """The only writer of a campaign file: lock, identity check, journal replay, checkpoints.
@@ -32,7 +34,9 @@ class CampaignWriter:
 
     def __init__(self, spec, *, extend: bool = False, checkpoint_s: float = 30.0):
         self.spec = spec
-        self.path = spec.output
+        # the resolved path: a second writer through a symlink (or another spelling) meets
+        # the same lock, and a checkpoint replaces the file, not the symlink
+        self.path = os.path.realpath(spec.output)
         self.checkpoint_s = checkpoint_s
         check_writable(self.path, "output")
         extended_from = self._check_identity(extend)   # before anything is written
@@ -44,12 +48,33 @@ class CampaignWriter:
             raise ConfigError("output", self.path,
                               "a file that no other running campaign is writing (it is locked)") \
                 from None
+        try:
+            self._open(spec, extend, extended_from)
+        except BaseException:
+            if getattr(self, "journal", None) is not None:
+                self.journal.close()
+            self._unlock()
+            raise
+
+    def _open(self, spec, extend, extended_from):
         store.clean_temporaries(self.path)
         self.root_attrs = store.root_attrs_for(spec, extended_from)
-        _, h5recs = store.read_h5_records(self.path, curves=False)
+        got = store.read_h5_checked(self.path, curves=False)
         self.records = {k: {"status": r.get("status"), "record_id": r.get("record_id")}
-                        for k, r in h5recs.items()}
-        self.journal = _journal.JournalWriter(_journal.journal_path(self.path))
+                        for k, r in got.records.items()}
+        #: corrupt records of the file: recomputed, and left out of every checkpoint
+        self.corrupt = set(got.corrupt)
+        if self.corrupt:
+            keys = sorted(self.corrupt)
+            log.warning("%s: %d corrupt record(s) (%s%s) will be recomputed and are not "
+                        "republished", self.path, len(keys), ", ".join(keys[:3]),
+                        " ..." if len(keys) > 3 else "")
+        accept = store.accepted_hashes(got.root)
+        if accept is not None:
+            accept.add(spec.campaign_hash)
+        elif not extend:
+            accept = {spec.campaign_hash}
+        self.journal = _journal.JournalWriter(_journal.journal_path(self.path), accept)
         self._unpublished = []
         for r in self.journal.replayed:
             if r.get("type") == "job":
@@ -113,8 +138,16 @@ class CampaignWriter:
 
     # -------------------------------------------------------------- writing
     def add(self, records) -> None:
+        """Journal ``records`` (durably) and checkpoint when due. A full disk raises
+        :class:`~fibril_hpc.errors.DiskFull` naming the journal."""
         for rec in records:
-            self.journal.append(rec)
+            try:
+                self.journal.append(rec)
+            except OSError as exc:
+                if exc.errno in FULL_ERRNOS:
+                    raise DiskFull(self.journal.path, "appending to the journal",
+                                   exc.strerror) from None
+                raise StoreError(f"cannot append to {self.journal.path}: {exc}") from None
             self._remember(rec)
         self.checkpoint()
 
@@ -128,7 +161,8 @@ class CampaignWriter:
             r.pop("type", None)
             recs.append(r)
         t0 = time.monotonic()
-        store.checkpoint(self.path, self.root_attrs, recs)
+        store.checkpoint(self.path, self.root_attrs, recs, drop=self.corrupt)
+        self.corrupt = set()
         self.journal.reset()
         self._unpublished = []
         self._last_ckpt = time.monotonic()
@@ -136,14 +170,22 @@ class CampaignWriter:
         self.checkpoint_s = max(self.checkpoint_s, 10.0 * (self._last_ckpt - t0))
 
     def close(self) -> None:
+        """Publish what is left, then release the journal and the lock (always, even when the
+        last checkpoint fails: its records stay safe in the journal)."""
         try:
-            self.checkpoint(force=bool(self._unpublished))
+            self.checkpoint(force=bool(self._unpublished or self.corrupt))
         finally:
             self.journal.close()
-            try:
-                fcntl.flock(self._lock_fd, fcntl.LOCK_UN)
-            finally:
-                os.close(self._lock_fd)
+            self._unlock()
+
+    def _unlock(self) -> None:
+        if self._lock_fd is None:
+            return
+        try:
+            fcntl.flock(self._lock_fd, fcntl.LOCK_UN)
+        finally:
+            os.close(self._lock_fd)
+            self._lock_fd = None
 
 
 __all__ = ["CampaignWriter"]

@@ -12,11 +12,12 @@ import os
 import sys
 
 from ..campaign.launcher import launcher_rank
-from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError, StoreError
+from ..errors import (EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError,
+                      DamagedFileError, DiskFull, StoreError)
 from ..files import check_writable
 from .common import Parser, error, setup_logging
 
-SUBCOMMANDS = ("run", "status", "report", "export", "merge")
+SUBCOMMANDS = ("run", "status", "report", "export", "merge", "verify", "salvage")
 PROG = "fibril-campaign"
 
 
@@ -61,6 +62,13 @@ def _parser() -> Parser:
     m = sub.add_parser("merge", help="merge campaign files into a new one")
     m.add_argument("files", nargs="+")
     m.add_argument("-o", "--output", required=True, metavar="ALL.h5")
+    v = sub.add_parser("verify", help="check every record of a file against its checksum")
+    v.add_argument("file")
+    sv = sub.add_parser("salvage", help="copy every readable, verified record into a new file")
+    sv.add_argument("file")
+    sv.add_argument("-o", "--output", required=True, metavar="NEW.h5")
+    sv.add_argument("--keep-unchecked", action="store_true",
+                    help="also copy records written before checksums existed")
     return p
 
 
@@ -70,31 +78,39 @@ def main(argv=None) -> int:
     if argv and argv[0] not in SUBCOMMANDS and argv[0] not in ("-h", "--help"):
         argv = ["run"] + argv
     p = _parser()
-    if not argv:
-        p.print_usage(sys.stderr)
+    if not argv:                       # one line (the usage would wrap over several)
         return error(PROG, "give a grid YAML (fibril-campaign grid.yaml) or a subcommand: "
                      + ", ".join(SUBCOMMANDS))
     args = p.parse_args(argv)
     setup_logging(getattr(args, "verbose", False))
     try:
         return {"run": cmd_run, "status": cmd_status, "report": cmd_report,
-                "export": cmd_export, "merge": cmd_merge}[args.cmd](args)
+                "export": cmd_export, "merge": cmd_merge, "verify": cmd_verify,
+                "salvage": cmd_salvage}[args.cmd](args)
     except BrokenPipeError:            # e.g. `fibril-campaign status f.h5 | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
     except ConfigError as exc:
+        return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
+    except DiskFull as exc:            # an interruption: rerun once there is room
+        return error(PROG, exc, EXIT_INTERRUPTED) if launcher_rank() == 0 else EXIT_INTERRUPTED
+    except DamagedFileError as exc:
         return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
     except StoreError as exc:
         return error(PROG, exc, EXIT_FAILED) if launcher_rank() == 0 else EXIT_FAILED
 
 
 def _existing(path, field):
-    from ..campaign.store import is_campaign_file
+    from ..campaign.store import read_root
 
     if not os.path.isfile(path):
         raise ConfigError(field, path, "an existing campaign file")
-    if not is_campaign_file(path):
-        raise ConfigError(field, path, "a fibril-hpc campaign HDF5 file")
+    try:
+        read_root(path)                # a damaged file: DamagedFileError, one line, exit 2
+    except DamagedFileError:
+        raise
+    except StoreError:
+        raise ConfigError(field, path, "a fibril-hpc campaign HDF5 file") from None
 
 
 # ------------------------------------------------------------------------------------ run
@@ -204,6 +220,38 @@ def cmd_merge(args) -> int:
         raise ConfigError("files", args.files, "distinct files")
     n = merge_files(args.files, args.output)
     print(f"{args.output}: {n} jobs from {len(args.files)} files")
+    return EXIT_OK
+
+
+# ------------------------------------------------------------------------------------ verify
+def cmd_verify(args) -> int:
+    """Check every record; exit 0 when nothing is wrong, 1 when records or journal frames are
+    damaged, 2 when the HDF5 structure cannot be read."""
+    from ..campaign.verify import verify_file
+
+    if not os.path.isfile(args.file):
+        raise ConfigError("file", args.file, "an existing campaign file")
+    v = verify_file(args.file)
+    if v.damaged:
+        return error(PROG, v.damaged)
+    for line in v.lines():
+        print(line)
+    return EXIT_OK if v.clean else EXIT_FAILED
+
+
+def cmd_salvage(args) -> int:
+    """Copy every readable, verified record into a new file to resume from."""
+    from ..campaign.verify import salvage_file
+
+    if not os.path.isfile(args.file):
+        raise ConfigError("file", args.file, "an existing campaign file")
+    check_writable(args.output, "--output")
+    if os.path.exists(args.output):
+        raise ConfigError("--output", args.output, "a new file name (it exists)")
+    n = salvage_file(args.file, args.output, keep_unchecked=args.keep_unchecked)
+    print(f"{args.output}: {n['copied']} record(s) copied ({n['from_journal']} from the journal);"
+          f" {n['corrupt']} corrupt and {n['unchecked_left_out']} unchecked left out; rerun the "
+          f"campaign with --output {args.output} to recompute what is missing")
     return EXIT_OK
 
 
