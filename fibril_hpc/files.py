@@ -84,7 +84,7 @@ def write_bytes_atomically(path: str, data: bytes, operation: str, tmp_prefix: s
 
     folder = os.path.dirname(os.path.abspath(path)) or "."
     free = free_bytes(folder)
-    margin = 1 << 20
+    margin = (64 << 10) + len(data) // 16        # file-system metadata and a little slack
     if 0 <= free < len(data) + margin:
         raise DiskFull(path, operation, f"{len(data) + margin} bytes needed, {free} free")
     try:

@@ -292,9 +292,14 @@ class JournalWriter:
             raise
 
     def reset(self) -> None:
-        """Empty the journal (after its records are safely in the HDF5 file)."""
-        os.ftruncate(self._fd, 0)
-        os.fsync(self._fd)
+        """Empty the journal (after its records are safely in the HDF5 file). A failure is
+        harmless: replaying records that are already in the file changes nothing."""
+        try:
+            os.ftruncate(self._fd, 0)
+            os.fsync(self._fd)
+        except OSError as exc:
+            log.info("could not empty %s (%s); its records are replayed harmlessly", self.path,
+                     exc)
 
     def close(self) -> None:
         if self._fd is not None:

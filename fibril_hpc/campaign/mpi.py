@@ -107,7 +107,9 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
             if stop.stop:
                 if stop_since is None:
                     stop_since = time.monotonic()
-                    log.warning("stop requested: waiting for %d job(s) in flight", len(busy))
+                    if full is None:
+                        log.warning("stop requested: waiting for %d job(s) in flight",
+                                    len(busy))
                 elif time.monotonic() - stop_since > grace_s:
                     break
             time.sleep(POLL_S)

@@ -46,7 +46,11 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
     int
         The exit status: ``EXIT_OK``, ``EXIT_FAILED`` or ``EXIT_INTERRUPTED``.
     """
-    writer = CampaignWriter(spec, extend=extend, checkpoint_s=checkpoint_s)
+    try:
+        writer = CampaignWriter(spec, extend=extend, checkpoint_s=checkpoint_s)
+    except DiskFull as exc:               # no room for even the first checkpoint
+        print(f"fibril-campaign: {exc}", file=sys.stderr)
+        return EXIT_INTERRUPTED
     stop = StopFlag().install()
     interrupted = False
     full = None

@@ -64,11 +64,7 @@ class CampaignWriter:
                         for k, r in got.records.items()}
         #: corrupt records of the file: recomputed, and left out of every checkpoint
         self.corrupt = set(got.corrupt)
-        if self.corrupt:
-            keys = sorted(self.corrupt)
-            log.warning("%s: %d corrupt record(s) (%s%s) will be recomputed and are not "
-                        "republished", self.path, len(keys), ", ".join(keys[:3]),
-                        " ..." if len(keys) > 3 else "")
+        corrupt = sorted(self.corrupt)
         accept = store.accepted_hashes(got.root)
         if accept is not None:
             accept.add(spec.campaign_hash)
@@ -81,7 +77,11 @@ class CampaignWriter:
                 self._remember(r)
         self.journal.replayed = None
         self._last_ckpt = time.monotonic()
-        self.checkpoint(force=True)
+        self.checkpoint(force=True)        # drops the corrupt records (or fails: one line)
+        if corrupt:
+            log.warning("%s: %d corrupt record(s) (%s%s) will be recomputed; they were not "
+                        "republished", self.path, len(corrupt), ", ".join(corrupt[:3]),
+                        " ..." if len(corrupt) > 3 else "")
 
     def _check_identity(self, extend: bool):
         if os.path.exists(self.path):
