@@ -108,5 +108,58 @@ def write_bytes_atomically(path: str, data: bytes, operation: str, tmp_prefix: s
         fsync_dir(folder)
 
 
-__all__ = ["check_writable", "discard_on_failure", "fsync_dir", "free_bytes",
+def save_figure(fig, path: str, operation: str = "writing the plot") -> None:
+    """Render a matplotlib figure to PNG in memory, then write it atomically (a full disk
+    leaves no empty PNG behind, only a one-line :class:`DiskFull`). The PNG is marked as
+    written by fibril-hpc (see :func:`is_fibril_output`)."""
+    import io
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110, metadata={"Software": PNG_MARK})
+    write_bytes_atomically(path, buf.getvalue(), operation,
+                           "." + os.path.basename(path) + ".part-")
+
+
+def write_text_atomically(path: str, text: str, operation: str = "writing") -> None:
+    """UTF-8 ``text`` to ``path`` (temporary file + rename; ENOSPC/EDQUOT -> DiskFull)."""
+    write_bytes_atomically(path, text.encode("utf-8"), operation,
+                           "." + os.path.basename(path) + ".part-")
+
+
+PNG_MARK = "fibril-hpc"
+
+
+def is_fibril_output(path: str) -> bool:
+    """Whether the existing file ``path`` was written by fibril-hpc (an HDF5 file whose root
+    ``program`` starts with "fibril-hpc", or a PNG carrying its mark)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4096)
+    except OSError:
+        return False
+    if head.startswith(b"\x89PNG\r\n\x1a\n"):
+        return PNG_MARK.encode() in head
+    if head.startswith(b"\x89HDF\r\n\x1a\n"):
+        try:
+            import h5py
+
+            with h5py.File(path, "r") as fh:
+                prog = fh.attrs.get("program", "")
+            prog = prog.decode() if isinstance(prog, bytes) else str(prog)
+            return prog.startswith("fibril-hpc")
+        except Exception:  # noqa: BLE001 - unreadable: not provably ours
+            return False
+    return False
+
+
+def check_not_clobbering(path: str, field: str, force: bool) -> None:
+    """Refuse (ConfigError) to replace an existing file that fibril-hpc did not write,
+    unless ``force``."""
+    if not force and os.path.lexists(path) and not is_fibril_output(path):
+        raise ConfigError(field, path, "a new file name or a file written by fibril-hpc (this "
+                          "one is not; pass --force to replace it)")
+
+
+__all__ = ["check_writable", "check_not_clobbering", "is_fibril_output", "save_figure",
+           "write_text_atomically", "discard_on_failure", "fsync_dir", "free_bytes",
            "write_bytes_atomically"]

@@ -55,5 +55,9 @@ def plot_result(result: SimulationResult, path: str) -> None:
                        interpolation="nearest")
         ax.set_title(f"{title}, d~ = {state.d_tilde:.3g}")
         fig.colorbar(im, ax=ax, shrink=0.8, label="p A0 / F_c (attached)")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    from .files import save_figure
+
+    try:
+        save_figure(fig, path, "writing the plot")
+    finally:
+        plt.close(fig)

@@ -270,6 +270,8 @@ class Scene:
             raise ConfigError("elements_per_diameter", self.elements_per_diameter,
                               "a number in [2, 128]")
         set_("elements_per_diameter", e)
+        from .limits import check_grid
+        check_grid(self.n_side, self.phi, e)            # the grid size, before any work
         if not isinstance(self.adhesion, bool):
             raise ConfigError("adhesion", self.adhesion, "true or false")
         w = _as_float("work_of_adhesion", self.work_of_adhesion, "a number in (0, 1e12)")

@@ -23,14 +23,12 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
-import tempfile
 
 import numpy as np
 import yaml
 
 from .config import scene_to_yaml
 from .errors import StoreError
-from .files import discard_on_failure
 from .results import Curve, PillarState, PreloadResult, SimulationResult, json_safe
 from .scene import scene_from_dict
 
@@ -95,16 +93,18 @@ def write_result(group, result: SimulationResult) -> None:
 
 
 def write_result_file(path: str, result: SimulationResult) -> None:
-    """Write a result to ``path`` atomically (temporary file + rename)."""
+    """Write a result to ``path`` atomically: built in memory (libhdf5 never meets a full
+    disk), then temporary file + rename; ENOSPC/EDQUOT -> one-line DiskFull."""
+    import io
+
     import h5py
 
-    folder = os.path.dirname(os.path.abspath(path)) or "."
-    fd, tmp = tempfile.mkstemp(prefix=".fibril-", suffix=".h5.part", dir=folder)
-    os.close(fd)
-    with discard_on_failure(tmp, path):
-        with h5py.File(tmp, "w") as fh:
-            write_result(fh, result)
-        os.replace(tmp, path)
+    from .files import write_bytes_atomically
+
+    buf = io.BytesIO()
+    with h5py.File(buf, "w") as fh:
+        write_result(fh, result)
+    write_bytes_atomically(path, buf.getbuffer(), "writing the result", ".fibril-")
 
 
 # ------------------------------------------------------------------------------------ reading

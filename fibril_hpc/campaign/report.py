@@ -22,6 +22,8 @@ import os
 
 import numpy as np
 
+from ..files import save_figure, write_text_atomically
+
 LINEAR_MAX_DEFAULT = 1.0
 
 
@@ -180,17 +182,16 @@ def write_report(path: str, out_dir: str, linear_max=None, plateau_tol=0.05) -> 
     csv, md = _table(an)
     for name, text in (("fit_table.csv", csv), ("fit_table.md", md)):
         p = os.path.join(out_dir, name)
-        with open(p, "w", encoding="utf-8") as fh:
-            fh.write(text)
+        write_text_atomically(p, text, "writing the report")
         files.append(p)
     p = os.path.join(out_dir, "README.md")
     from . import report as _me
 
-    with open(p, "w", encoding="utf-8") as fh:
-        fh.write(f"# Report of {os.path.abspath(path)}\n\n{len(c.jobs)} job records, campaign "
-                 f"{c.meta.get('campaign_hash')}.\n\n## Criteria\n{_me.__doc__.split('Definitions')[1]}"
-                 f"\nUsed here: linear_max = {lm:g}, plateau_tol = {plateau_tol:g}.\n\n"
-                 f"## alpha, beta, sigma~_c\n\n{md}")
+    write_text_atomically(
+        p, f"# Report of {os.path.abspath(path)}\n\n{len(c.jobs)} job records, campaign "
+        f"{c.meta.get('campaign_hash')}.\n\n## Criteria\n{_me.__doc__.split('Definitions')[1]}"
+        f"\nUsed here: linear_max = {lm:g}, plateau_tol = {plateau_tol:g}.\n\n"
+        f"## alpha, beta, sigma~_c\n\n{md}", "writing the report")
     files.append(p)
     return files
 
@@ -205,6 +206,8 @@ def _save(fig, out_dir, name):
     import matplotlib.pyplot as plt
 
     p = os.path.join(out_dir, name)
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
+    try:
+        save_figure(fig, p, "writing the report")
+    finally:
+        plt.close(fig)
     return p

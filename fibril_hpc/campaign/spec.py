@@ -32,6 +32,7 @@ import yaml
 
 from ..config import read_yaml
 from ..errors import ConfigError
+from ..limits import check_job_count
 from ..scene import SCENE_FIELDS, Scene, scene_from_dict
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
@@ -220,6 +221,8 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     spec = CampaignSpec(base=base, k_tilde=ks, sigma_tilde=ss, preload_kind=kind, preloads=pre,
                         seeds=seeds, group_preloads=group, output=output, source=source,
                         description=desc)
+    check_job_count({"k_tilde": len(ks), "sigma_tilde": len(ss), kind: len(pre),
+                     "seeds": len(seeds)})                 # before enumerating any job
     jobs = []
     for k in ks:
         for s in ss:
@@ -232,8 +235,6 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
                     except ConfigError as exc:  # pragma: no cover - ranges checked above
                         raise ConfigError(exc.field, exc.value, exc.allowed) from None
                     jobs.append(Job(job_key(scene), len(jobs), k, s, kind, p, seed))
-    if len(jobs) > 10_000_000:
-        raise ConfigError("campaign", len(jobs), "at most 1e7 jobs")
     spec.jobs = jobs
     return spec
 

@@ -42,6 +42,8 @@ def _parser() -> Parser:
                    help="override solver.fft_threads of every job (threads per rank; not part of "
                         "the job keys), e.g. $SLURM_CPUS_PER_TASK")
     r.add_argument("--no-progress", action="store_true", help="no progress line")
+    r.add_argument("--ignore-memory-check", action="store_true",
+                   help="run even if one job's memory estimate exceeds the memory available")
     r.add_argument("--serial", action="store_true",
                    help="never initialise MPI, even under a launcher (one rank only)")
     r.add_argument("-v", "--verbose", action="store_true")
@@ -129,6 +131,10 @@ def cmd_run(args) -> int:
     if args.fft_threads is not None:
         spec.base = spec.base.replace(solver=spec.base.solver.replace(
             fft_threads=args.fft_threads))
+    if not args.ignore_memory_check:
+        from ..limits import check_memory
+
+        check_memory(spec.base, field="scene")     # before any operator is built
     comm = connect(serial=args.serial)
     rank = 0 if comm is None else comm.Get_rank()
     if args.dry_run:

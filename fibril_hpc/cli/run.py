@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 
 from .._version import __version__
-from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError, StoreError
+from ..errors import (EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError, DiskFull,
+                      StoreError)
 from ..results import software_versions
 from .common import Parser, error, setup_logging
 
@@ -39,6 +41,8 @@ def _human(result) -> str:
     st = result.stats
     lines.append(f"  status {result.status}; {st['wall_s']:.2f} s, {st['cg_iterations']} CG "
                  f"iterations, {st['fft_pairs']} FFT pairs, {st['events']} events")
+    if result.status == "ok" and result.message:
+        lines.append(f"  note: {result.message}")
     return "\n".join(lines)
 
 
@@ -51,6 +55,10 @@ def main(argv=None) -> int:
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--out", metavar="FILE.h5", help="write the full result to HDF5")
     p.add_argument("--plot", metavar="FILE.png", help="draw the curves and contact maps")
+    p.add_argument("--force", action="store_true",
+                   help="replace an existing --out/--plot file even if fibril-hpc did not write it")
+    p.add_argument("--ignore-memory-check", action="store_true",
+                   help="run even if the scene's memory estimate exceeds the memory available")
     p.add_argument("--version", action="store_true", help="print versions and exit")
     p.add_argument("-v", "--verbose", action="store_true")
     args = p.parse_args(argv)
@@ -59,17 +67,22 @@ def main(argv=None) -> int:
         return EXIT_OK
     setup_logging(args.verbose)
     from ..config import builtin_scene, load_scene
-    from ..files import check_writable
+    from ..files import check_not_clobbering, check_writable
+    from ..limits import check_memory
 
     try:
 
         if (args.scene is None) == (args.builtin is None):
             raise ConfigError("scene", args.scene, "a scene YAML path or --builtin NAME (one of them)")
         scene = builtin_scene(args.builtin) if args.builtin else load_scene(args.scene)
-        if args.out:
-            check_writable(args.out, "--out")
-        if args.plot:
-            check_writable(args.plot, "--plot")
+        for path, field in ((args.out, "--out"), (args.plot, "--plot")):
+            if path:
+                check_writable(path, field)
+                check_not_clobbering(path, field, args.force)
+        if args.out and args.plot and os.path.realpath(args.out) == os.path.realpath(args.plot):
+            raise ConfigError("--plot", args.plot, "a file other than --out")
+        if not args.ignore_memory_check:
+            check_memory(scene)
     except ConfigError as exc:
         return error(PROG, exc, EXIT_USAGE)
     from ..api import simulate
@@ -84,6 +97,8 @@ def main(argv=None) -> int:
             from ..plot import plot_result
 
             plot_result(result, args.plot)
+    except DiskFull as exc:
+        return error(PROG, exc, EXIT_INTERRUPTED)
     except StoreError as exc:
         return error(PROG, exc, EXIT_FAILED)
     if args.json:
