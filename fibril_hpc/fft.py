@@ -75,6 +75,10 @@ class FFTPair:
         else:
             raise ValueError(f"unknown FFT backend {backend!r}")
 
+    def work_arrays(self) -> dict:
+        """The buffers this pair owns, by name (for read-only use, e.g. memory accounting)."""
+        return {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k != "rows"}
+
     def convolve(self, kernel_hat: np.ndarray) -> None:
         """real_out <- rows of irfft2(rfft2(padded real_in) * kernel_hat), unnormalised."""
         if self.backend == "pyfftw":
