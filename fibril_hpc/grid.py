@@ -1,4 +1,4 @@
-"""Element grid, pillar footprints, element-to-pillar labels and pillar heights (physics.md §1, §3).
+"""Element grid, pillar footprints, element-to-pillar labels and pillar heights (docs/model.md §1, §3).
 
 Footprint convention (fixed, documented, stored): the pitch s is an *odd* whole number of elements,
 so every pillar centre sits on an element centre, at ((I + 1/2) s, (J + 1/2) s). An element

@@ -1,6 +1,6 @@
 """Displacement-controlled loading to the preload(s), then pull-off until complete detachment.
 
-The driver is event-driven (physics.md §5): on a fixed attached set S the solution is affine in the
+The driver is event-driven (docs/model.md §6): on a fixed attached set S the solution is affine in the
 plate displacement d, p(d) = p + (d - d0) p1 with A p1 = 1_S, and so are the tip forces and the
 gaps of free elements. From a consistent state the driver therefore
 

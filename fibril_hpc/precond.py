@@ -1,11 +1,11 @@
-"""Preconditioners of the attached-set operator A = K_SS + alpha B B^T (physics.md §4).
+"""Preconditioners of the attached-set operator A = K_SS + alpha B B^T (docs/model.md §4).
 
 * :class:`DiagonalPreconditioner` -- P = c0 I + alpha B B^T, inverted per pillar by
   Sherman-Morrison (O(n), any geometry).
 * :class:`BlockPreconditioner` -- block Jacobi with the *exact* dense pillar block
   P_n = K_nn + alpha 1 1^T restricted to the pillar's attached elements. It captures the stress
   concentration at the pillar edge, which dominates the conditioning, so CG needs a few iterations
-  independent of the resolution (measured: 15 -> 5 at 8 elements per diameter, 21 -> 5 at 16).
+  nearly independent of the resolution (measurements: ``benchmarks/NOTES.md``).
   Used when all groups share one footprint (pillar brushes) of at most ``max_block`` elements.
   Fully attached pillars share one inverse and are applied as one matrix product; partly attached
   ones get their own inverse, cached by attachment pattern and rebuilt only when it changes.

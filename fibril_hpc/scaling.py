@@ -1,4 +1,4 @@
-"""Every normalisation factor in one place (physics.md §2, §5).
+"""Every normalisation factor in one place (docs/model.md §2, §5).
 
 Internal units: E* = 1, L = 1 (side of the nominal square A0), and the work of adhesion
 ``work_of_adhesion`` (default 1). All inputs and outputs of the package are dimensionless:

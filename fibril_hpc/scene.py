@@ -75,7 +75,7 @@ class SolverOptions:
     ----------
     cg_tol : float
         Relative tolerance of the constrained CG, measured against the half-space part of the
-        operator: ``||r|| <= cg_tol * ||K p||`` (physics.md §4: stays accurate for soft springs).
+        operator: ``||r|| <= cg_tol * ||K p||`` (docs/model.md §4: stays accurate for soft springs).
         Range (0, 1e-2]. Default 1e-8.
     cg_maxiter : int
         Iteration cap of one CG solve; exceeding it is a :class:`NoConvergenceError`. Default 5000.
@@ -105,10 +105,9 @@ class SolverOptions:
     fft_backend : str
         ``"pyfftw"`` (default) or ``"numpy"`` (reference/comparison).
     fft_threads : int or None
-        Threads of the FFT; ``None`` (default) means one. Measured on the 2-core machine: the
-        default 18 x 18 scene took 61 s with one FFTW thread and 204 s with two (the row-pruned
-        pair is many short batched 1-D transforms, where FFTW's threads cost more than they
-        save), so more threads are opt-in (e.g. ``fibril-campaign --fft-threads`` from Slurm's
+        Threads of the FFT; ``None`` (default) means one. The row-pruned pair is many short
+        batched 1-D transforms, where FFTW's threads cost more than they save on small machines
+        (measurements: ``benchmarks/NOTES.md``), so more threads are opt-in (e.g. ``fibril-campaign --fft-threads`` from Slurm's
         cpus-per-task). MPI campaigns run one single-threaded job per rank. The numba kernels
         are serial; BLAS (block preconditioner) follows ``OPENBLAS_NUM_THREADS``.
     fft_planner : str
@@ -160,7 +159,7 @@ class SolverOptions:
             raise ConfigError("solver.fft_backend", self.fft_backend, "'pyfftw' or 'numpy'")
         if self.fft_threads is not None:
             _as_int("solver.fft_threads", self.fft_threads, 1, 1024,
-                    "null (all CPUs of this process) or an integer in [1, 1024]")
+                    "null (one thread) or an integer in [1, 1024]")
         if self.fft_planner not in ("estimate", "measure", "patient"):
             raise ConfigError("solver.fft_planner", self.fft_planner,
                               "'estimate', 'measure' or 'patient'")
@@ -176,7 +175,7 @@ class SolverOptions:
 
 @dataclass(frozen=True)
 class Scene:
-    """A pillar-array pull-off scene in dimensionless inputs (physics.md §1-2).
+    """A pillar-array pull-off scene in dimensionless inputs (docs/model.md §1-2).
 
     Attributes
     ----------
@@ -207,7 +206,7 @@ class Scene:
         no unloading branch: it retraces the loading one, so F_A = 0).
     work_of_adhesion : float
         Internal unit of the adhesion energy (E* = L = 1). Normalised results do not depend on it
-        (scale invariance, physics.md §2); it exists so that tests can prove that. Default 1.
+        (scale invariance, docs/model.md §2); it exists so that tests can prove that. Default 1.
     preset : str
         Accuracy preset, ``fast``, ``default`` or ``accurate`` (:mod:`fibril_hpc.presets`): fills
         ``elements_per_diameter`` if it is ``None`` and the solver knobs if ``solver`` is ``None``
