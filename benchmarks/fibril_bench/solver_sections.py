@@ -16,15 +16,14 @@ from fibril_hpc import Scene, simulate
 from fibril_hpc.fft import FFTPair
 from fibril_hpc.greens import padded_size
 from fibril_hpc.loading import PathDriver
-from fibril_hpc.model import build_scene_model, scene_scaling
+from fibril_hpc.model import build_scene_model, scene_lattice
 
 from .timing import Stopwatch, bench_scene, floor_pair, time_call
 
 
 def scene_grid_side(scene) -> int:
     """Grid side N (elements) of a scene: n_side pillars of ``pitch`` elements."""
-    _, pitch, _ = scene_scaling(scene)
-    return scene.n_side * pitch
+    return scene_lattice(scene).grid_side
 
 
 def section_fft(cfg, floors, log):

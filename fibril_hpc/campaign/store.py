@@ -199,10 +199,11 @@ def checkpoint(path: str, root_attrs: dict, records) -> None:
 def root_attrs_for(spec, extended_from=None) -> dict:
     """Root attributes describing a campaign spec."""
     from .._version import __version__
-    from ..model import scene_scaling
+    from ..grid import Lattice
     from ..results import json_safe, software_versions
 
-    scaling, _, _ = scene_scaling(spec.base)
+    b = spec.base
+    scaling = Lattice.of(b.n_side, b.phi, b.elements_per_diameter).scaling(b.work_of_adhesion)
     defs = dict(scaling.definitions())
     defs["F_A"] = "pull-off force: -min F over the unloading branch, / F_c"
     defs["F_P"] = "force at the end of loading (the preload reached), / F_c"
