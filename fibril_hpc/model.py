@@ -104,9 +104,10 @@ class OperatorCache:
 
     @staticmethod
     def key(scene: Scene) -> tuple:
-        o = scene.solver
+        """The grid (lattice step) and the options an operator depends on
+        (``SolverOptions.operator_settings``)."""
         return (scene.n_side, scene.phi, scene_lattice(scene).pitch,
-                o.fft_backend, o.threads, o.fft_planner)
+                *sorted(scene.solver.operator_settings().items()))
 
     def get(self, scene: Scene, geometry: Geometry) -> HalfSpace:
         k = self.key(scene)

@@ -32,13 +32,15 @@ import yaml
 
 from ..config import read_yaml
 from ..errors import ConfigError
-from ..scene import SCENE_FIELDS, Scene, scene_from_dict
+from ..ranges import range_of
+from ..scene import SCENE_FIELDS, Scene, SolverOptions, scene_from_dict
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
             "group_preloads", "description")
-#: solver options that limit resources but do not define a result (left out of job keys)
-KEY_EXCLUDED_SOLVER = ("fft_threads", "max_wall_s", "max_events")
+#: solver options that limit resources but do not define a result (left out of job keys):
+#: the ``resource`` options of :class:`~fibril_hpc.scene.SolverOptions`
+KEY_EXCLUDED_SOLVER = SolverOptions.of_kind("resource")
 
 
 @dataclass(frozen=True)
@@ -144,7 +146,10 @@ def job_key(scene: Scene) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _values(name, v, check, allowed):
+def _values(name, v):
+    """A number or a list of numbers in the range of Scene field ``name`` (order kept)."""
+    rng = range_of(Scene, name)
+    allowed = rng.allowed(plural=True)
     items = list(v) if isinstance(v, (list, tuple)) else [v]
     if not items:
         raise ConfigError(name, v, allowed)
@@ -156,7 +161,7 @@ def _values(name, v, check, allowed):
             x = float(item)
         except ValueError:
             raise ConfigError(name, item, allowed) from None
-        if math.isnan(x) or not check(x):
+        if math.isnan(x) or not rng.contains(x):
             raise ConfigError(name, item, allowed)
         out.append(x)
     if len(set(out)) != len(out):
@@ -187,16 +192,12 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     for name in ("k_tilde", "sigma_tilde"):
         if name not in data:
             raise ConfigError(name, None, "a number or a list of numbers (required)")
-    ks = _values("k_tilde", data["k_tilde"], lambda x: x > 0, "numbers > 0 (inf: rigid)")
-    ss = _values("sigma_tilde", data["sigma_tilde"], lambda x: 0 <= x <= 1000,
-                 "numbers in [0, 1000]")
+    ks = _values("k_tilde", data["k_tilde"])
+    ss = _values("sigma_tilde", data["sigma_tilde"])
     if ("d_tilde" in data) == ("F_P" in data):
         raise ConfigError("F_P", data.get("F_P"), "give either F_P or d_tilde (one of them)")
     kind = "F_P" if "F_P" in data else "d_tilde"
-    if kind == "F_P":
-        pre = _values("F_P", data["F_P"], lambda x: 0 < x < 1e6, "numbers in (0, 1e6)")
-    else:
-        pre = _values("d_tilde", data["d_tilde"], math.isfinite, "finite numbers")
+    pre = _values(kind, data[kind])
     seeds_v = data.get("seeds", 1)
     if isinstance(seeds_v, bool):
         raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")

@@ -39,13 +39,14 @@ from ..errors import StoreError
 from ..files import discard_on_failure, fsync_dir
 from . import journal as _journal
 from .record import BRANCHES, CURVE_KEYS, SCALAR_KEYS
+from .spec import KEY_EXCLUDED_SOLVER
 
 PROGRAM = "fibril-hpc campaign"
 FORMAT_VERSION = 1
 KEY_DEFINITION = ("first 16 hex digits of SHA-256 of the job's single-preload scene as canonical "
                   "JSON (sorted keys) of k_tilde, sigma_tilde, seed, the preload and every field "
-                  "that differs from its default, without solver.fft_threads, "
-                  "solver.max_wall_s, solver.max_events")
+                  "that differs from its default, without "
+                  + ", ".join("solver." + k for k in KEY_EXCLUDED_SOLVER))
 
 
 def now() -> str:
