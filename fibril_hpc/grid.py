@@ -54,14 +54,17 @@ class Geometry:
 
     @property
     def n_groups(self) -> int:
+        """Number of groups (pillars)."""
         return len(self.starts) - 1
 
     @property
     def n_active(self) -> int:
+        """Number of elements that can touch."""
         return len(self.iy)
 
     @property
     def labels(self) -> np.ndarray:
+        """Group index of every active element."""
         return np.repeat(np.arange(self.n_groups), np.diff(self.starts))
 
     def to_map(self, values, fill=0.0) -> np.ndarray:
@@ -85,14 +88,17 @@ class PillarGrid:
 
     @property
     def n(self) -> int:
+        """Grid side (elements)."""
         return self.geometry.n
 
     @property
     def h(self) -> float:
+        """Element side (internal units)."""
         return self.geometry.h
 
     @property
     def elements_per_pillar(self) -> int:
+        """Elements in one pillar's footprint."""
         return len(self.footprint)
 
     @property
@@ -151,6 +157,7 @@ class Lattice:
 
     @property
     def elements_per_pillar(self) -> int:
+        """Elements in one pillar's footprint."""
         return len(self.footprint)
 
     @property

@@ -84,6 +84,7 @@ class HalfSpace:
 
     @property
     def n_pairs(self) -> int:
+        """FFT pairs executed so far (the operator products)."""
         return self.pair.n_pairs
 
     def apply(self, p: np.ndarray, out: np.ndarray) -> np.ndarray:

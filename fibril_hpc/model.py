@@ -37,10 +37,12 @@ class Model:
 
     @property
     def rigid(self) -> bool:
+        """Whether the pillars are rigid (k = inf)."""
         return math.isinf(self.k)
 
     @property
     def fft_pairs(self) -> int:
+        """FFT pairs executed by the operator so far."""
         return self.operator.n_pairs
 
 
@@ -80,7 +82,7 @@ def scene_scaling(scene: Scene) -> tuple[Scaling, int, tuple]:
     return lat.scaling(scene.work_of_adhesion), lat.pitch, lat.footprint
 
 
-def build_scene_model(scene: Scene, operators: "OperatorCache | None" = None, *,
+def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
                       m: int | None = None) -> Model:
     """Discretise a pillar scene and build its model (reusing a cached operator if given;
     ``m`` sets the padded FFT size of a new operator)."""
@@ -110,6 +112,7 @@ class OperatorCache:
                 *sorted(scene.solver.operator_settings().items()))
 
     def get(self, scene: Scene, geometry: Geometry) -> HalfSpace:
+        """The operator for ``scene``'s grid: cached, or built on ``geometry`` and cached."""
         k = self.key(scene)
         op = self._ops.pop(k, None)
         if op is None:

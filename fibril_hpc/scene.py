@@ -78,9 +78,10 @@ class SolverOptions:
     fft_threads : int or None
         Threads of the FFT; ``None`` (default) means one. The row-pruned pair is many short
         batched 1-D transforms, where FFTW's threads cost more than they save on small machines
-        (measurements: ``benchmarks/NOTES.md``), so more threads are opt-in (e.g. ``fibril-campaign --fft-threads`` from Slurm's
-        cpus-per-task). MPI campaigns run one single-threaded job per rank. The numba kernels
-        are serial; BLAS (block preconditioner) follows ``OPENBLAS_NUM_THREADS``.
+        (measurements: ``benchmarks/NOTES.md``), so more threads are opt-in (e.g.
+        ``fibril-campaign --fft-threads`` from Slurm's cpus-per-task). MPI campaigns run one
+        single-threaded job per rank. The numba kernels are serial; BLAS (block preconditioner)
+        follows ``OPENBLAS_NUM_THREADS``.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
     """
@@ -207,6 +208,7 @@ class Scene:
 
     @property
     def rigid(self) -> bool:
+        """Whether the pillars are rigid (k~ = inf)."""
         return math.isinf(self.k_tilde)
 
     @property
@@ -216,6 +218,7 @@ class Scene:
 
     @property
     def preloads(self) -> tuple:
+        """The preload values (``d_tilde`` or ``F_P``, ascending)."""
         return self.d_tilde if self.d_tilde is not None else self.F_P
 
     def replace(self, **changes) -> Scene:

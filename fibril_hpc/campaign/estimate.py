@@ -40,6 +40,7 @@ def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
 
 
 def task_seconds(scene, n_preloads: int, pair_s: float, elements_per_pillar: int) -> float:
+    """Modelled seconds of one task of ``n_preloads`` preloads (see the module docstring)."""
     pairs = (PAIRS_PER_PILLAR_ELEMENT * scene.n_side ** 2 * math.sqrt(elements_per_pillar)
              * (1 + 0.15 * (n_preloads - 1)))
     return pairs * pair_s

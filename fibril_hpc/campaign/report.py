@@ -90,6 +90,10 @@ def _table(an) -> tuple[str, str]:
 
 
 def write_report(path: str, out_dir: str, linear_max=None, plateau_tol=0.05) -> list:
+    """Write the plots and the alpha, beta, sigma_c table of a campaign file into ``out_dir``.
+
+    Returns the paths written.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -196,6 +200,7 @@ def write_report(path: str, out_dir: str, linear_max=None, plateau_tol=0.05) -> 
 
 
 def raise_empty(path):
+    """Raise the one-line :class:`StoreError` of a file with no done jobs."""
     from ..errors import StoreError
 
     raise StoreError(f"{path}: no done jobs to report on")

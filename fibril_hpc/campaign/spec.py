@@ -16,8 +16,8 @@ Every combination (k_tilde, sigma_tilde, preload, seed) is one job. A job's key 
 digits of the SHA-256 of its resolved single-preload scene (canonical JSON of the fields that
 differ from their defaults, plus k_tilde, sigma_tilde, seed and the preload; without the resource
 and cap options ``solver.fft_threads``, ``solver.max_wall_s``, ``solver.max_events``), so keys
-do not depend on the order of the lists, on other jobs, or on scene fields added later. The campaign hash is the SHA-256 of
-the sorted job keys: two grids with the same set of jobs have the same hash.
+do not depend on the order of the lists, on other jobs, or on scene fields added later. The
+campaign hash is the SHA-256 of the sorted job keys: two grids with the same set of jobs have the same hash.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ import yaml
 from ..config import read_yaml
 from ..errors import ConfigError
 from ..ranges import range_of
-from ..scene import SCENE_FIELDS, Scene, SolverOptions, scene_from_dict
+from ..scene import Scene, SolverOptions, scene_from_dict
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
@@ -56,6 +56,7 @@ class Job:
     seed: int
 
     def inputs(self) -> dict:
+        """The job's identity fields, as stored in its record."""
         return {"key": self.key, "k_tilde": self.k_tilde, "sigma_tilde": self.sigma_tilde,
                 "preload_kind": self.preload_kind, "preload": self.preload, "seed": self.seed}
 
@@ -69,11 +70,14 @@ class Task:
 
     @property
     def keys(self):
+        """Keys of the task's jobs."""
         return [j.key for j in self.jobs]
 
 
 @dataclass
 class CampaignSpec:
+    """A validated campaign grid: the base scene, the swept values, the output and the jobs."""
+
     base: Scene
     k_tilde: tuple
     sigma_tilde: tuple
@@ -98,14 +102,17 @@ class CampaignSpec:
                 "group_preloads": self.group_preloads}
 
     def resolved_yaml(self) -> str:
+        """The resolved campaign as YAML (stored in the file as ``campaign_yaml``)."""
         return yaml.safe_dump(self.resolved(), sort_keys=False)
 
     @property
     def campaign_hash(self) -> str:
+        """SHA-256 of the sorted job keys: the identity of the grid."""
         return campaign_hash_of(j.key for j in self.jobs)
 
     # ------------------------------------------------------------------ jobs
     def job_scene(self, job: Job) -> Scene:
+        """The single-preload scene of one job (what its key is computed from)."""
         return self.base.replace(k_tilde=job.k_tilde, sigma_tilde=job.sigma_tilde, seed=job.seed,
                                  **{self.preload_kind: (job.preload,)})
 
@@ -129,6 +136,7 @@ class CampaignSpec:
 
 
 def campaign_hash_of(keys) -> str:
+    """SHA-256 (hex) of a set of job keys, independent of their order."""
     return hashlib.sha256("\n".join(sorted(keys)).encode()).hexdigest()
 
 

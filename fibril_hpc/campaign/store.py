@@ -50,7 +50,7 @@ KEY_DEFINITION = ("first 16 hex digits of SHA-256 of the job's single-preload sc
 
 
 def now() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    return _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
 
 
 def _attr(v):
@@ -62,6 +62,7 @@ def _attr(v):
 
 
 def is_campaign_file(path: str) -> bool:
+    """Whether ``path`` is an HDF5 file written by fibril-campaign."""
     try:
         with h5py.File(path, "r") as fh:
             return fh.attrs.get("program") == PROGRAM
