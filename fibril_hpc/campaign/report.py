@@ -188,11 +188,9 @@ def write_report(path: str, out_dir: str, linear_max=None, plateau_tol=0.05) -> 
             fh.write(text)
         files.append(p)
     p = os.path.join(out_dir, "README.md")
-    from . import report as _me
-
     with open(p, "w", encoding="utf-8") as fh:
         fh.write(f"# Report of {os.path.abspath(path)}\n\n{len(c.jobs)} job records, campaign "
-                 f"{c.meta.get('campaign_hash')}.\n\n## Criteria\n{_me.__doc__.split('Definitions')[1]}"
+                 f"{c.meta.get('campaign_hash')}.\n\n## Criteria\n{__doc__.split('Definitions')[1]}"
                  f"\nUsed here: linear_max = {lm:g}, plateau_tol = {plateau_tol:g}.\n\n"
                  f"## alpha, beta, sigma~_c\n\n{md}")
     files.append(p)
