@@ -93,7 +93,8 @@ def main(argv=None) -> int:
            "pairs_per_pillar_element": sum(per_pillar) / len(per_pillar),
            "fibril_hpc_commit": os.popen(f"git -C {HERE} rev-parse --short HEAD 2>/dev/null")
            .read().strip()}
-    print(f"estimate: {out['core_hours']:.0f} core-hours{' (at least: a sample hit the cap)' if capped else ''} "
+    cap_note = " (at least: a sample hit the cap)" if capped else ""
+    print(f"estimate: {out['core_hours']:.0f} core-hours{cap_note} "
           f"for {len(spec.jobs)} jobs in {len(spec.tasks())} loading paths "
           f"(mean sampled path {out['mean_path_cpu_s']:.0f} s CPU); with N ranks x N/(N-1) for the master; "
           f"FFT pairs per pillar per sqrt(element) {out['pairs_per_pillar_element']:.0f}")

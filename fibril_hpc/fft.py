@@ -5,7 +5,7 @@ about 45 % of the N rows of a brush at phi = 0.16, and the padding doubles m), a
 of the output are read. The ``pyfftw`` backend therefore prunes the row stage of the 2-D real
 transform: r2c along x on the R active rows only, c2c along y on every column, multiply by the
 (real) kernel transform, inverse c2c along y, c2r along x on the R active rows only. That is about
-half of the full 2-D work at m = 625 (measured 6.3 ms vs 10.8 ms per pair, one thread).
+half of the full 2-D work (measurements: ``benchmarks/NOTES.md``).
 
 The ``numpy`` backend is the float64 reference: the plain full ``rfft2``/``irfft2`` of the padded
 array. Both are unnormalised (callers fold 1/(m*m) into the kernel transform) and count the pairs
@@ -74,6 +74,25 @@ class FFTPair:
             self._padded = np.zeros((self.m, self.m))
         else:
             raise ValueError(f"unknown FFT backend {backend!r}")
+
+    def work_arrays(self) -> dict:
+        """The buffers this pair owns, by name (for read-only use, e.g. memory accounting)."""
+        return {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k != "rows"}
+
+    def stages(self, kernel_hat: np.ndarray) -> dict:
+        """The stages of one pyfftw product, in order, as named callables (for timing them one by
+        one; running all of them in order is :meth:`convolve` without the pair count)."""
+        if self.backend != "pyfftw":
+            raise ValueError("stages exist for the pyfftw backend only")
+        return {
+            "p1 r2c rows": self._p1.execute,
+            "scatter rows": lambda: self._full.__setitem__(self.rows, self._rows_hat),
+            "p2 c2c cols": self._p2.execute,
+            "multiply": lambda: np.multiply(self._spec, kernel_hat, out=self._spec),
+            "p3 c2c cols inv": self._p3.execute,
+            "gather rows": lambda: np.take(self._spec, self.rows, axis=0, out=self._rows_back),
+            "p4 c2r rows": self._p4.execute,
+        }
 
     def convolve(self, kernel_hat: np.ndarray) -> None:
         """real_out <- rows of irfft2(rfft2(padded real_in) * kernel_hat), unnormalised."""

@@ -51,6 +51,15 @@ def discard_on_failure(tmp: str, path: str, operation: str = "writing"):
         raise
 
 
+def check_output_folder(path: str, field: str = "--out") -> None:
+    """Raise a :class:`ConfigError` naming ``field`` unless ``path`` is a folder, or can be
+    created as one (its parent exists and it is not a file). Nothing is created here."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise ConfigError(field, path, "a folder (it is a file)")
+    if not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+        raise ConfigError(field, path, "a folder whose parent exists")
+
+
 def fsync_dir(folder: str) -> None:
     """Make a rename inside ``folder`` durable (best effort)."""
     try:
@@ -160,6 +169,6 @@ def check_not_clobbering(path: str, field: str, force: bool) -> None:
                           "one is not; pass --force to replace it)")
 
 
-__all__ = ["check_writable", "check_not_clobbering", "is_fibril_output", "save_figure",
+__all__ = ["check_writable", "check_output_folder", "check_not_clobbering", "is_fibril_output", "save_figure",
            "write_text_atomically", "discard_on_failure", "fsync_dir", "free_bytes",
            "write_bytes_atomically"]

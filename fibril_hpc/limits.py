@@ -14,7 +14,6 @@ The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
 
 from __future__ import annotations
 
-import os
 
 from .errors import ConfigError
 

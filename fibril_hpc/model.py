@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .grid import Geometry, PillarGrid, build_pillar_grid, footprint, pitch_elements
+from .grid import Geometry, Lattice, PillarGrid, build_pillar_grid
 from .halfspace import HalfSpace
 from .scaling import Scaling, critical_stress
 from .scene import Scene, SolverOptions
@@ -37,24 +37,26 @@ class Model:
 
     @property
     def rigid(self) -> bool:
+        """Whether the pillars are rigid (k = inf)."""
         return math.isinf(self.k)
 
     @property
     def fft_pairs(self) -> int:
+        """FFT pairs executed by the operator so far."""
         return self.operator.n_pairs
 
 
 def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesion: float,
                 scaling: Scaling, options: SolverOptions, grid: PillarGrid | None = None,
-                operator: HalfSpace | None = None) -> Model:
+                operator: HalfSpace | None = None, m: int | None = None) -> Model:
     """Build a model on any geometry (pillars, or a test-only indenter shape).
 
     ``operator`` reuses an existing :class:`HalfSpace` (FFT plans, buffers, kernel transform); it
     must have been built on a geometry with the same grid and active elements (heights may differ).
+    ``m`` sets the padded FFT size of a new operator (default: :func:`~fibril_hpc.greens.padded_size`).
     """
     if operator is None:
-        op = HalfSpace(geometry, backend=options.fft_backend, threads=options.threads,
-                       planner=options.fft_planner)
+        op = HalfSpace.from_options(geometry, options, m=m)
     else:
         g0 = operator.geometry
         if not (g0.n == geometry.n and np.array_equal(g0.iy, geometry.iy)
@@ -69,23 +71,28 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
                  adhesion=adhesion, scaling=scaling, options=options, grid=grid)
 
 
+def scene_lattice(scene: Scene) -> Lattice:
+    """The lattice step of a scene (see :class:`~fibril_hpc.grid.Lattice`)."""
+    return Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter)
+
+
 def scene_scaling(scene: Scene) -> tuple[Scaling, int, tuple]:
-    """Scaling of a scene from its discrete footprint (phi_discrete = elements/pitch^2)."""
-    s = pitch_elements(scene.phi, scene.elements_per_diameter)
-    fp = footprint(s, scene.phi)
-    phi_d = len(fp) / float(s * s)
-    return Scaling(phi=phi_d, work_of_adhesion=scene.work_of_adhesion), s, fp
+    """(scaling, pitch, footprint) of a scene, from its lattice step."""
+    lat = scene_lattice(scene)
+    return lat.scaling(scene.work_of_adhesion), lat.pitch, lat.footprint
 
 
-def build_scene_model(scene: Scene, operators: "OperatorCache | None" = None) -> Model:
-    """Discretise a pillar scene and build its model (reusing a cached operator if given)."""
+def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
+                      m: int | None = None) -> Model:
+    """Discretise a pillar scene and build its model (reusing a cached operator if given;
+    ``m`` sets the padded FFT size of a new operator)."""
     scaling, _, _ = scene_scaling(scene)
     grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter,
                              scene.sigma_tilde * scaling.d_c, scene.seed)
     op = None if operators is None else operators.get(scene, grid.geometry)
     return build_model(grid.geometry, k=scaling.k(scene.k_tilde), adhesion=scene.adhesion,
                        work_of_adhesion=scene.work_of_adhesion, scaling=scaling,
-                       options=scene.solver, grid=grid, operator=op)
+                       options=scene.solver, grid=grid, operator=op, m=m)
 
 
 class OperatorCache:
@@ -99,17 +106,17 @@ class OperatorCache:
 
     @staticmethod
     def key(scene: Scene) -> tuple:
-        o = scene.solver
-        return (scene.n_side, scene.phi, pitch_elements(scene.phi, scene.elements_per_diameter),
-                o.fft_backend, o.threads, o.fft_planner)
+        """The grid (lattice step) and the options an operator depends on
+        (``SolverOptions.operator_settings``)."""
+        return (scene.n_side, scene.phi, scene_lattice(scene).pitch,
+                *sorted(scene.solver.operator_settings().items()))
 
     def get(self, scene: Scene, geometry: Geometry) -> HalfSpace:
+        """The operator for ``scene``'s grid: cached, or built on ``geometry`` and cached."""
         k = self.key(scene)
         op = self._ops.pop(k, None)
         if op is None:
-            o = scene.solver
-            op = HalfSpace(geometry, backend=o.fft_backend, threads=o.threads,
-                           planner=o.fft_planner)
+            op = HalfSpace.from_options(geometry, scene.solver)
         self._ops[k] = op
         while len(self._ops) > self.maxsize:
             self._ops.pop(next(iter(self._ops)))

@@ -1,10 +1,12 @@
-"""Preconditioned conjugate gradients on the attached set at one plate displacement (physics.md §4).
+"""Preconditioned conjugate gradients on the attached set at one plate displacement (docs/model.md §4).
 
-Solves  A p = b  on S,  A = K_SS + alpha B B^T  (alpha = h^2/k; alpha = 0 for rigid pillars, where
-the spring work is skipped inside the kernels), with the exact per-pillar Sherman-Morrison
-preconditioner P = c0 I + alpha B B^T. The stopping test is measured against the half-space part
-of the operator, ||r|| <= tol ||K p||_S (+ a floor of 1e3 eps ||b||), because for soft springs most
-of b goes into the springs and ||r|| <= tol ||b|| would be far too lax.
+Solves A p = b on S, A = K_SS + alpha B B^T (alpha = h^2/k; alpha = 0 for rigid pillars, where the
+spring work is skipped inside the kernels). The preconditioner is chosen by
+``SolverOptions.preconditioner``: by default (``"auto"``) the exact per-pillar block Jacobi one
+wherever all pillars share one footprint, else the Sherman-Morrison diagonal one
+P = c0 I + alpha B B^T (see :mod:`fibril_hpc.precond`). The stopping test is measured against
+the half-space part of the operator, ||r|| <= tol ||K p||_S (+ a floor of 1e3 eps ||b||),
+because for soft springs most of b goes into the springs and ||r|| <= tol ||b|| would be far too lax.
 
 The solver also keeps u = K p on *every* active element (attached or not) up to date, since the
 gaps of free elements need it. Warm start: ``x`` in, solution out (entries off S must be zero).
@@ -56,6 +58,13 @@ class ConstrainedCG:
         self._q = np.zeros(n)
         self.iterations = 0     # cumulative CG iterations
         self.solves = 0
+
+    def work_arrays(self) -> dict:
+        """The work vectors this solver owns, by name (for read-only use, e.g. memory
+        accounting); arrays shared with the geometry are not included."""
+        shared = {id(a) for a in vars(self.op.geometry).values() if isinstance(a, np.ndarray)}
+        return {k: v for k, v in vars(self).items()
+                if isinstance(v, np.ndarray) and id(v) not in shared}
 
     def solve(self, att, b, x, u, tol: float | None = None, u_valid: bool = False) -> int:
         """Solve A x = b on S = {att != 0} in place; u <- K x on every active element.

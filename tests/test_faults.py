@@ -16,7 +16,6 @@ import subprocess
 import sys
 import zlib
 
-import h5py
 import numpy as np
 import pytest
 

@@ -61,6 +61,7 @@ def journal_path(output: str) -> str:
 
 
 def quarantine_path(output_journal: str) -> str:
+    """Where the writer moves damaged, foreign and old-format stretches of a journal."""
     return output_journal + ".quarantine"
 
 
@@ -137,6 +138,7 @@ class Scan:
 
     @property
     def clean(self) -> bool:
+        """Whether every byte belongs to an intact record of an accepted campaign."""
         return not (self.damaged or self.old or self.foreign)
 
     def message(self, path: str) -> str:
@@ -215,6 +217,7 @@ def _frame_at(data: bytes, pos: int, digests, out: Scan) -> int:
 
 
 def read_bytes(path: str) -> bytes:
+    """The bytes of a journal (empty when there is none)."""
     try:
         with open(path, "rb") as fh:
             return fh.read()
@@ -302,6 +305,7 @@ class JournalWriter:
                      exc)
 
     def close(self) -> None:
+        """Close the journal file (idempotent)."""
         if self._fd is not None:
             os.close(self._fd)
             self._fd = None

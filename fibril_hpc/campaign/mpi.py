@@ -49,6 +49,10 @@ def _wait_message(comm, source, tag, stop=None):
 
 def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.0,
                progress=True, grace_s=120.0) -> int:
+    """Rank 0: the single writer; hands out tasks one at a time and writes every record.
+
+    Returns the exit status that every rank exits with.
+    """
     try:
         writer = CampaignWriter(spec, extend=extend, checkpoint_s=checkpoint_s)
     except Exception as exc:
@@ -151,6 +155,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
 
 
 def run_worker(comm) -> int:
+    """A worker rank: run the tasks the master sends until it says stop; returns the exit status."""
     status, value = comm.bcast(None, root=0)
     if status != "ok":
         return value

@@ -92,6 +92,10 @@ def _table(an) -> tuple[str, str]:
 
 
 def write_report(path: str, out_dir: str, linear_max=None, plateau_tol=0.05) -> list:
+    """Write the plots and the alpha, beta, sigma_c table of a campaign file into ``out_dir``.
+
+    Returns the paths written.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -185,11 +189,9 @@ def write_report(path: str, out_dir: str, linear_max=None, plateau_tol=0.05) -> 
         write_text_atomically(p, text, "writing the report")
         files.append(p)
     p = os.path.join(out_dir, "README.md")
-    from . import report as _me
-
     write_text_atomically(
         p, f"# Report of {os.path.abspath(path)}\n\n{len(c.jobs)} job records, campaign "
-        f"{c.meta.get('campaign_hash')}.\n\n## Criteria\n{_me.__doc__.split('Definitions')[1]}"
+        f"{c.meta.get('campaign_hash')}.\n\n## Criteria\n{__doc__.split('Definitions')[1]}"
         f"\nUsed here: linear_max = {lm:g}, plateau_tol = {plateau_tol:g}.\n\n"
         f"## alpha, beta, sigma~_c\n\n{md}", "writing the report")
     files.append(p)
@@ -197,6 +199,7 @@ def write_report(path: str, out_dir: str, linear_max=None, plateau_tol=0.05) -> 
 
 
 def raise_empty(path):
+    """Raise the one-line :class:`StoreError` of a file with no done jobs."""
     from ..errors import StoreError
 
     raise StoreError(f"{path}: no done jobs to report on")

@@ -37,9 +37,11 @@ class Verdict:
 
     @property
     def clean(self) -> bool:
+        """Whether nothing is damaged (unchecked records are not damage)."""
         return not (self.corrupt or self.journal_problem or self.damaged)
 
     def lines(self) -> list:
+        """The report, one line per finding."""
         if self.damaged:
             return [self.damaged]
         out = [f"{self.path}: {self.ok} record(s) verified, {len(self.corrupt)} corrupt, "

@@ -122,6 +122,7 @@ class CampaignWriter:
 
     # -------------------------------------------------------------- queries
     def keys_to_run(self, retry_failed: bool) -> list:
+        """Keys of the grid's jobs without a record (and, with ``retry_failed``, the failed ones)."""
         out = []
         for j in self.spec.jobs:
             r = self.records.get(j.key)
@@ -130,6 +131,7 @@ class CampaignWriter:
         return out
 
     def counts(self) -> dict:
+        """Jobs of the grid: total, done, failed and pending."""
         keys = {j.key for j in self.spec.jobs}
         done = sum(1 for k in keys if self.records.get(k, {}).get("status") == "done")
         failed = sum(1 for k in keys if self.records.get(k, {}).get("status") == "failed")
@@ -152,6 +154,7 @@ class CampaignWriter:
         self.checkpoint()
 
     def checkpoint(self, force: bool = False) -> None:
+        """Fold the journal into the HDF5 file (at most every ``checkpoint_s`` unless ``force``)."""
         if not force and (not self._unpublished
                           or time.monotonic() - self._last_ckpt < self.checkpoint_s):
             return

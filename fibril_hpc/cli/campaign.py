@@ -14,7 +14,7 @@ import sys
 from ..campaign.launcher import launcher_rank
 from ..errors import (EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError,
                       DamagedFileError, DiskFull, StoreError)
-from ..files import check_writable
+from ..files import check_output_folder, check_writable
 from .common import Parser, error, setup_logging
 
 SUBCOMMANDS = ("run", "status", "report", "export", "merge", "verify", "salvage")
@@ -267,11 +267,7 @@ def cmd_report(args) -> int:
     from ..campaign.report import write_report
 
     _existing(args.file, "file")
-    if os.path.exists(args.out) and not os.path.isdir(args.out):
-        raise ConfigError("--out", args.out, "a folder (it is a file)")
-    parent = os.path.dirname(os.path.abspath(args.out))
-    if not os.path.isdir(parent):
-        raise ConfigError("--out", args.out, "a folder whose parent exists")
+    check_output_folder(args.out, "--out")
     if args.linear_max is not None and not (args.linear_max > 0):
         raise ConfigError("--linear-max", args.linear_max, "a number > 0")
     if not (0 < args.plateau_tol < 1):
