@@ -349,3 +349,117 @@ def test_real_full_tmpfs_interrupts_then_resumes_after_space_is_freed(tiny_tmpfs
     after = done_ids(out)
     assert len(after) == 32 and all(after[k] == v for k, v in kept.items())
     assert run(["verify", out], cwd=tiny_tmpfs).returncode == 0
+
+
+# ------------------------------------------------------------------ 8: too big, caught first
+def _scene_yaml(folder, **fields) -> str:
+    import yaml
+
+    d = {"n_side": 2, "elements_per_diameter": 5, "F_P": 0.5, "solver": {"fft_threads": 1}}
+    d.update(fields)
+    p = os.path.join(str(folder), "scene.yaml")
+    with open(p, "w") as fh:
+        yaml.safe_dump(d, fh)
+    return p
+
+
+def fibril_run(args, capsys):
+    from fibril_hpc.cli.run import main
+
+    capsys.readouterr()
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_8_grid_too_big_is_one_line_everywhere(tmp_path, capsys, caplog):
+    scene = _scene_yaml(tmp_path, n_side=200, elements_per_diameter=40)
+    code, _, err = fibril_run([scene], capsys)
+    assert code == 2 and "at most 8192 elements per side" in one_line(err)
+    grid = write_grid(tmp_path, scene={"n_side": 200, "elements_per_diameter": 40})
+    for extra in ([], ["--dry-run"]):
+        code, _, err = cli([grid, "--no-progress"] + extra, capsys, caplog)
+        assert code == 2 and "at most 8192 elements per side" in one_line(err)
+    assert not os.path.exists(tmp_path / "tiny.h5")
+
+
+def test_8_memory_estimate_against_available(tmp_path, capsys, caplog, monkeypatch):
+    from fibril_hpc import limits
+
+    monkeypatch.setattr(limits, "available_memory", lambda: 1 << 30)
+    big = write_grid(tmp_path, scene={"n_side": 200, "elements_per_diameter": 18})
+    for extra in ([], ["--dry-run"]):          # 7800^2 grid: refused before any allocation
+        code, _, err = cli([big, "--no-progress"] + extra, capsys, caplog)
+        assert code == 2
+        msg = one_line(err)
+        assert "7800^2 grid" in msg and "1.0 GiB of memory available" in msg
+        assert "--ignore-memory-check" in msg
+    monkeypatch.setattr(limits, "available_memory", lambda: 1000)
+    scene = _scene_yaml(tmp_path)
+    code, _, err = fibril_run([scene], capsys)
+    assert code == 2 and "memory available" in one_line(err)
+    code, out, err = fibril_run([scene, "--ignore-memory-check", "--json"], capsys)
+    assert code == 0, err
+
+
+def test_8_job_count_is_a_product_checked_before_enumeration(tmp_path):
+    grid = write_grid(tmp_path, k_tilde=[1 + i for i in range(100)],
+                      sigma_tilde=[0.01 * (1 + i) for i in range(100)],
+                      F_P=[0.01 * (1 + i) for i in range(100)], seeds=100)     # 1e8 jobs
+    for extra in ([], ["--dry-run"]):
+        r = run([grid, "--no-progress"] + extra, timeout=60, cwd=tmp_path)
+        assert r.returncode == 2
+        assert "100000000 jobs (100 k_tilde x 100 sigma_tilde x 100 F_P x 100 seeds)" in \
+            one_line(r.stderr)
+
+
+# ------------------------------------------------------------------ 9: outputs
+def test_9_fibril_run_never_clobbers_a_foreign_file(tmp_path, capsys):
+    scene = _scene_yaml(tmp_path)
+    theirs = tmp_path / "thesis.h5"
+    theirs.write_bytes(b"not ours")
+    png = tmp_path / "figure.png"
+    png.write_bytes(b"\x89PNG\r\n\x1a\nsomeone else's figure")
+    for opt, path in (("--out", theirs), ("--plot", png)):
+        code, _, err = fibril_run([scene, opt, path], capsys)
+        assert code == 2 and "--force" in one_line(err)
+    assert theirs.read_bytes() == b"not ours" and png.read_bytes().endswith(b"figure")
+    code, _, err = fibril_run([scene, "--out", theirs, "--plot", png, "--force"], capsys)
+    assert code == 0, err
+    code, _, err = fibril_run([scene, "--out", theirs, "--plot", png], capsys)   # ours now
+    assert code == 0, err
+    assert not [f for f in os.listdir(tmp_path) if ".part" in f or f.startswith(".fibril-")]
+
+
+def test_9_plot_and_report_on_a_full_or_read_only_disk(finished, tmp_path, capsys, caplog,
+                                                       inject):
+    scene = _scene_yaml(tmp_path)
+    inject("ENOSPC:plot.png")
+    code, _, err = fibril_run([scene, "--plot", tmp_path / "plot.png"], capsys)
+    assert code == 75 and "disk full during writing the plot" in one_line(err)
+    faultinject.uninstall()
+    assert not [f for f in os.listdir(tmp_path) if "plot" in f]         # no 0-byte PNG
+    out = copy_of(finished, tmp_path)
+    inject("EROFS:rep/")
+    code, _, err = cli(["report", out, "--out", tmp_path / "rep"], capsys, caplog)
+    assert code == 1 and "Read-only file system" in one_line(err)
+    inject("ENOSPC:rep/")
+    code, _, err = cli(["report", out, "--out", tmp_path / "rep"], capsys, caplog)
+    assert code == 75 and "disk full during writing the report" in one_line(err)
+    faultinject.uninstall()
+    assert os.listdir(tmp_path / "rep") == []
+
+
+def test_9_second_writer_through_a_symlink_is_refused(tmp_path, capsys, caplog):
+    from fibril_hpc.campaign.writer import CampaignWriter
+
+    grid = write_grid(tmp_path)
+    first = CampaignWriter(load_spec(grid))
+    try:
+        os.symlink(tmp_path / "tiny.h5", tmp_path / "alias.h5")
+        code, _, err = cli([grid, "--no-progress", "--output", tmp_path / "alias.h5"], capsys,
+                           caplog)
+        assert code == 2 and "locked" in one_line(err)
+    finally:
+        first.close()
+    assert os.path.islink(tmp_path / "alias.h5")

@@ -272,7 +272,13 @@ def cmd_report(args) -> int:
         raise ConfigError("--linear-max", args.linear_max, "a number > 0")
     if not (0 < args.plateau_tol < 1):
         raise ConfigError("--plateau-tol", args.plateau_tol, "a number in (0, 1)")
-    os.makedirs(args.out, exist_ok=True)
+    try:
+        os.makedirs(args.out, exist_ok=True)
+    except OSError as exc:
+        raise ConfigError("--out", args.out, f"a folder that can be created ({exc.strerror})") \
+            from None
+    if not os.access(args.out, os.W_OK):
+        raise ConfigError("--out", args.out, "a writable folder")
     files = write_report(args.file, args.out, linear_max=args.linear_max,
                          plateau_tol=args.plateau_tol)
     for f in files:
