@@ -249,7 +249,7 @@ def test_5_bit_flips_are_detected_and_recomputed(finished, tmp_path, capsys, cap
     assert a not in text and b not in text
     code, o, e = cli([tmp_path / "grid.yaml", "--no-progress"], capsys, caplog)    # resume
     assert code == 0, e
-    assert "2 corrupt record(s)" in one_line(e)
+    assert "2 corrupt record(s)" in e.splitlines()[0] and "Traceback" not in e
     after = results_by_key(out)
     assert len(after) == 16
     assert after[a]["record_id"] != jobs[a]["record_id"]       # recomputed, not republished
@@ -463,3 +463,29 @@ def test_9_second_writer_through_a_symlink_is_refused(tmp_path, capsys, caplog):
     finally:
         first.close()
     assert os.path.islink(tmp_path / "alias.h5")
+
+
+# ------------------------------------------------------------------ friendliness
+def test_friendly_end_lines_and_progress_across_resumes(finished, tmp_path, capsys):
+    from fibril_hpc.campaign.progress import Progress, finished_line, nothing_to_run
+
+    out = copy_of(finished, tmp_path)
+    assert run_serial(load_spec(str(tmp_path / "grid.yaml")), progress=False) == 0
+    msg = one_line(capsys.readouterr().err)
+    assert msg == nothing_to_run(out, {"jobs": 16, "done": 16, "failed": 0, "pending": 0})
+    assert "already finished" in msg and "ETA" not in msg
+    grid = write_grid(tmp_path / "..", name="grid2.yaml", output="second.h5")
+    spec = load_spec(grid)
+    assert run_serial(spec, progress=False, max_tasks=2) == 75
+    capsys.readouterr()
+    assert run_serial(load_spec(grid), progress=False) == 0
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert last == finished_line(spec.output, {"jobs": 16, "done": 16, "failed": 0,
+                                               "pending": 0})
+    assert f"fibril-campaign status {spec.output}" in last and "report" in last
+    line = finished_line("f.h5", {"jobs": 4, "done": 3, "failed": 1, "pending": 0})
+    assert "--retry-failed" in line
+    p = Progress(16, 1, done_before=4, failed_before=1, enabled=False)
+    p.update([{"status": "done", "wall_s": 1.0}] * 2)
+    assert p.line().startswith("fibril-campaign: 7/16 jobs (6 done, 1 failed, 0 running; "
+                               "2 this run)")

@@ -22,7 +22,7 @@ from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, DiskFul
 from ..model import OperatorCache
 from .control import Interrupted, StopFlag, interrupted_message
 from .execute import execute_task
-from .progress import Progress
+from .progress import finished_line, for_writer, nothing_to_run
 from .runner import order_tasks
 from .writer import CampaignWriter
 
@@ -77,11 +77,12 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
     code = EXIT_OK
     busy: dict = {}
     full = None
+    todo: list = []
     queue: deque = deque()
     try:
         todo = writer.keys_to_run(retry_failed)
         queue = deque(order_tasks(spec.tasks(todo)))
-        prog = Progress(len(todo), size - 1, enabled=progress)
+        prog = for_writer(writer, todo, size - 1, progress and bool(todo))
         idle = deque(range(1, size))
         while idle and queue and not stop.stop:
             r = idle.popleft()
@@ -143,6 +144,10 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
         print(f"fibril-campaign: {full}", file=sys.stderr)
     elif code == EXIT_INTERRUPTED:
         print(interrupted_message(spec.output, stop.signum), file=sys.stderr)
+    else:
+        c = writer.counts()
+        print(finished_line(spec.output, c) if todo else nothing_to_run(spec.output, c),
+              file=sys.stderr)
     for r in range(1, size):
         if r not in busy:
             comm.send(("stop", code), dest=r, tag=TAG_TASK)

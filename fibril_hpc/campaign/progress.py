@@ -11,8 +11,11 @@ class Progress:
     ``every_s`` seconds otherwise) on stderr."""
 
     def __init__(self, total_jobs: int, workers: int, stream=None, every_s: float = 10.0,
-                 enabled: bool = True):
+                 enabled: bool = True, done_before: int = 0, failed_before: int = 0):
         self.total = total_jobs
+        #: jobs of the grid finished by earlier runs (counted in the line, not in the ETA)
+        self.done_before = done_before
+        self.failed_before = failed_before
         self.workers = max(1, workers)
         self.stream = stream or sys.stderr
         self.tty = getattr(self.stream, "isatty", lambda: False)()
@@ -39,7 +42,8 @@ class Progress:
     def line(self) -> str:
         """The progress text: jobs finished, done, failed, running, elapsed, ETA."""
         finished = self.done + self.failed
-        left = self.total - finished
+        before = self.done_before + self.failed_before
+        left = self.total - before - finished
         el = time.monotonic() - self.t0
         if finished:
             rate = finished / el
@@ -47,8 +51,9 @@ class Progress:
             eta_s = time.strftime("%H:%M:%S", time.gmtime(eta)) if eta < 8.6e5 else ">10 d"
         else:
             eta_s = "?"
-        return (f"fibril-campaign: {finished}/{self.total} jobs ({self.done} done, "
-                f"{self.failed} failed, {self.running} running) "
+        return (f"fibril-campaign: {before + finished}/{self.total} jobs "
+                f"({self.done_before + self.done} done, {self.failed_before + self.failed} "
+                f"failed, {self.running} running; {finished} this run) "
                 f"elapsed {time.strftime('%H:%M:%S', time.gmtime(el))} ETA {eta_s}")
 
     def show(self, force=False):
@@ -73,4 +78,33 @@ class Progress:
             self.stream.flush()
 
 
-__all__ = ["Progress"]
+def for_writer(writer, todo, workers: int, enabled: bool) -> Progress:
+    """The progress line of a run of ``writer``'s grid that will run the keys ``todo``
+    (jobs finished by earlier runs are counted, so the numbers stay right across resumes)."""
+    c = writer.counts()
+    before = c["jobs"] - len(todo)
+    done = min(c["done"], before)
+    return Progress(c["jobs"], workers, enabled=enabled, done_before=done,
+                    failed_before=before - done)
+
+
+def nothing_to_run(output: str, counts: dict) -> str:
+    """The line of a rerun that finds every job of the grid finished."""
+    line = (f"fibril-campaign: all {counts['jobs']} jobs of {output} are already finished "
+            f"({counts['done']} done, {counts['failed']} failed); nothing to run")
+    if counts["failed"]:
+        line += "; rerun the failed ones with --retry-failed"
+    return line
+
+
+def finished_line(output: str, counts: dict) -> str:
+    """The last line of a campaign that ran to its end: where the file is, what next."""
+    line = (f"fibril-campaign: {counts['done']} done, {counts['failed']} failed, "
+            f"{counts['pending']} pending of {counts['jobs']} jobs in {output}; next: "
+            f"fibril-campaign status {output}; fibril-campaign report {output} --out REPORT_DIR")
+    if counts["failed"]:
+        line += "; rerun the failed jobs with --retry-failed"
+    return line
+
+
+__all__ = ["Progress", "for_writer", "nothing_to_run", "finished_line"]

@@ -13,7 +13,7 @@ from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, DiskFull
 from ..model import OperatorCache
 from .control import Interrupted, StopFlag, interrupted_message
 from .execute import execute_task
-from .progress import Progress
+from .progress import finished_line, for_writer, nothing_to_run
 from .writer import CampaignWriter
 
 log = logging.getLogger(__name__)
@@ -59,7 +59,9 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
         tasks = order_tasks(spec.tasks(todo))
         c = writer.counts()
         log.info("campaign %s: %d jobs, %d to run", spec.campaign_hash[:12], c["jobs"], len(todo))
-        prog = Progress(len(todo), 1, enabled=progress)
+        prog = for_writer(writer, todo, 1, progress)
+        if not todo:
+            prog.enabled = False
         ops = OperatorCache()
         for n, task in enumerate(tasks):
             if stop.stop or (max_tasks is not None and n >= max_tasks):
@@ -95,6 +97,8 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
         print(interrupted_message(spec.output, stop.signum), file=sys.stderr)
         return EXIT_INTERRUPTED
     c = writer.counts()
+    print(finished_line(spec.output, c) if todo else nothing_to_run(spec.output, c),
+          file=sys.stderr)
     return EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED
 
 
