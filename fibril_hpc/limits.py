@@ -6,7 +6,8 @@ operator is built or a job is enumerated.
 
 Memory model: one ``simulate`` call holds the FFT operator and its work arrays on the padded
 m x m grid plus per-element solver vectors; the peak resident memory measured on this machine
-grew by 56 bytes per m^2 (m = 2160: +262 MB, m = 3840: +791 MB, ``simulate`` of one preload).
+grew by 59 and 56 bytes per m^2 (m = 2160: +275 MB, m = 3840: +829 MB, ``simulate`` of one
+preload; ``python benchmarks/scene_memory.py 40 12`` and ``60 14``).
 The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
 :data:`BASE_BYTES`. It is compared with the memory available now (``MemAvailable`` of
 ``/proc/meminfo``, or a cgroup's limit when lower); ``--ignore-memory-check`` runs anyway.
@@ -21,7 +22,7 @@ from .errors import ConfigError
 MAX_GRID_SIDE = 8192
 #: most jobs of one campaign grid
 MAX_JOBS = 10_000_000
-#: peak bytes per element of the padded FFT grid (56 measured, see the module docstring)
+#: peak bytes per element of the padded FFT grid (56-59 measured, see the module docstring)
 BYTES_PER_FFT_ELEMENT = 72
 #: the interpreter, numba, FFTW and the libraries
 BASE_BYTES = 128 << 20
