@@ -239,6 +239,8 @@ def test_5_bit_flips_are_detected_and_recomputed(finished, tmp_path, capsys, cap
     _flip_first(out, float(jobs[b]["unloading"]["F_tilde"][-2]))       # a curve value
     c = load_campaign(out)
     assert set(c.corrupt) == {a, b} and len(c) == 14
+    code, o, e = cli(["status", out], capsys, caplog)
+    assert code == 0 and "14 done, 0 failed, 2 pending (2 of them corrupt" in o
     assert a not in {j["key"] for j in c.jobs}
     code, o, e = cli(["verify", out], capsys, caplog)
     assert code == 1 and f"corrupt {a}" in o and f"corrupt {b}" in o

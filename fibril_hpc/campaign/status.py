@@ -30,6 +30,8 @@ class FileStatus:
     in_journal: int
     done_wall_s: list = field(default_factory=list)
     failed: list = field(default_factory=list)
+    #: keys of corrupt records (counted as pending: resume recomputes them)
+    corrupt: list = field(default_factory=list)
 
 
 def _grid_jobs(meta: dict, path: str) -> dict | None:
@@ -59,6 +61,7 @@ def file_status(path: str) -> FileStatus:
              if r["status"] == "done"]
     return FileStatus(meta=c.meta, totals=totals, by_k_tilde=dict(sorted(by_k.items())),
                       in_journal=c.pending_in_journal, done_wall_s=walls,
+                      corrupt=sorted(c.corrupt),
                       failed=[r for r in c.jobs if r["status"] == "failed"])
 
 

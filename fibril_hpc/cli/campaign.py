@@ -182,7 +182,7 @@ def cmd_status(args) -> int:
     if args.json:
         print(json.dumps({"file": args.file, "campaign_hash": meta.get("campaign_hash"),
                           "updated": meta.get("updated"), **tot,
-                          "in_journal": st.in_journal,
+                          "in_journal": st.in_journal, "corrupt": st.corrupt,
                           "by_k_tilde": {repr(k): v for k, v in st.by_k_tilde.items()}}))
         return EXIT_OK
     print(f"{args.file}: campaign {str(meta.get('campaign_hash'))[:12]}, "
@@ -190,6 +190,8 @@ def cmd_status(args) -> int:
           + (f", {st.in_journal} record(s) in the journal" if st.in_journal else ""))
     walls = st.done_wall_s
     print(f"  {tot['done']} done, {tot['failed']} failed, {tot['pending']} pending"
+          + (f" ({len(st.corrupt)} of them corrupt in the file: `verify` lists them, resume "
+             "recomputes them)" if st.corrupt else "")
           + (f"; {sum(walls):.1f} s of compute in done jobs" if walls else ""))
     print(f"  {'k_tilde':>10} {'done':>6} {'failed':>6} {'pending':>7}")
     for k, d in st.by_k_tilde.items():
