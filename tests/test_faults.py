@@ -491,3 +491,19 @@ def test_friendly_end_lines_and_progress_across_resumes(finished, tmp_path, caps
     p.update([{"status": "done", "wall_s": 1.0}] * 2)
     assert p.line().startswith("fibril-campaign: 7/16 jobs (6 done, 1 failed, 0 running; "
                                "2 this run)")
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(MPIRUN is None, reason="no mpirun on PATH (pip install '.[mpi]')")
+def test_1_resume_on_a_still_full_disk_exits_75_on_every_rank(finished, tmp_path):
+    pytest.importorskip("mpi4py")
+    from campaign_helpers import campaign_cmd
+
+    copy_of(finished, tmp_path)
+    p = subprocess.run([MPIRUN, "-n", "2"] + campaign_cmd() + [str(tmp_path / "grid.yaml"),
+                                                              "--no-progress"],
+                       capture_output=True, text=True, timeout=240, cwd=tmp_path,
+                       env=fault_env("ENOSPC:.tiny.h5.ckpt-"))
+    assert p.returncode == 75, p.stderr
+    assert "Traceback" not in p.stderr
+    assert "disk full during checkpoint copy" in one_line(p.stderr)

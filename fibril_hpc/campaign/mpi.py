@@ -56,7 +56,9 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
     try:
         writer = CampaignWriter(spec, extend=extend, checkpoint_s=checkpoint_s)
     except Exception as exc:
-        comm.bcast(("error", EXIT_USAGE), root=0)
+        # a full disk is an interruption on every rank (75); anything else is a usage error
+        comm.bcast(("error", EXIT_INTERRUPTED if isinstance(exc, DiskFull) else EXIT_USAGE),
+                   root=0)
         raise exc
     comm.bcast(("ok", spec.campaign_hash), root=0)
     try:

@@ -70,7 +70,13 @@ class CampaignWriter:
             accept.add(spec.campaign_hash)
         elif not extend:
             accept = {spec.campaign_hash}
-        self.journal = _journal.JournalWriter(_journal.journal_path(self.path), accept)
+        jpath = _journal.journal_path(self.path)
+        try:
+            self.journal = _journal.JournalWriter(jpath, accept)
+        except OSError as exc:            # e.g. no room to quarantine a damaged stretch
+            if exc.errno in FULL_ERRNOS:
+                raise DiskFull(jpath, "opening the journal", exc.strerror) from None
+            raise StoreError(f"cannot open the journal {jpath}: {exc}") from None
         self._unpublished = []
         for r in self.journal.replayed:
             if r.get("type") == "job":
