@@ -9,6 +9,11 @@ results are bitwise identical) with one :class:`~fibril_hpc.model.OperatorCache`
 Stop signals (SIGTERM/SIGINT/SIGUSR1) on any rank stop the hand-out; a worker that is computing
 when it is signalled abandons its job. The master waits up to ``grace_s`` for jobs in flight,
 publishes everything, tells the workers to exit, and every rank exits with status 75.
+
+A full disk (:class:`~fibril_hpc.errors.DiskFull` from the journal or a checkpoint) is handled
+like a stop signal: the hand-out stops, the results still arriving cannot be written and are
+dropped, every rank exits with 75 and one line names the path and the operation. Any other
+error on the master aborts the whole world (``MPI_Abort``) so that no worker waits for ever.
 """
 
 from __future__ import annotations
@@ -107,9 +112,9 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
                 if recs is not None and full is None:
                     try:
                         writer.add(recs)
+                        prog.update(recs, running=len(busy))
                     except DiskFull as exc:     # stop handing out; jobs in flight are lost
                         full, stop.stop = exc, True
-                    prog.update(recs, running=len(busy))
                 continue
             if stop.stop:
                 if stop_since is None:
