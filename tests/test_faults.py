@@ -450,6 +450,11 @@ def test_9_plot_and_report_on_a_full_or_read_only_disk(finished, tmp_path, capsy
     assert code == 75 and "disk full during writing the report" in one_line(err)
     faultinject.uninstall()
     assert os.listdir(tmp_path / "rep") == []
+    inject("EDQUOT:x.csv")
+    code, _, err = cli(["export", out, "--csv", tmp_path / "x.csv"], capsys, caplog)
+    assert code == 75 and "disk full during writing the CSV export" in one_line(err)
+    faultinject.uninstall()
+    assert not [f for f in os.listdir(tmp_path) if "x.csv" in f]
 
 
 def test_9_second_writer_through_a_symlink_is_refused(tmp_path, capsys, caplog):

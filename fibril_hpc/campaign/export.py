@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import csv
-import os
+import io
 
+from ..files import write_text_atomically
 from .data import load_campaign
 from .record import COLUMNS
 
@@ -16,15 +17,15 @@ def _csv_value(v):
 
 
 def export_csv(path: str, out: str) -> int:
-    """Write the jobs of the campaign file ``path`` to ``out`` (atomically); returns the rows."""
+    """Write the jobs of the campaign file ``path`` to ``out`` (atomically: temporary file +
+    rename; a full disk is a one-line :class:`~fibril_hpc.errors.DiskFull`); returns the rows."""
     c = load_campaign(path, curves=False)
-    tmp = out + ".part"
-    with open(tmp, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(COLUMNS)
-        for j in c.jobs:
-            w.writerow([_csv_value(j.get(col)) for col in COLUMNS])
-    os.replace(tmp, out)
+    buf = io.StringIO(newline="")
+    w = csv.writer(buf)
+    w.writerow(COLUMNS)
+    for j in c.jobs:
+        w.writerow([_csv_value(j.get(col)) for col in COLUMNS])
+    write_text_atomically(out, buf.getvalue(), "writing the CSV export")
     return len(c.jobs)
 
 
