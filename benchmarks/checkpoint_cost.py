@@ -40,7 +40,7 @@ def old_checkpoint(path, records):
     with h5py.File(tmp, "a") as fh:
         jobs = fh.require_group("jobs")
         for r in records:
-            store._write_record(jobs, r)     # same record writer (with checksum) for both
+            store.write_record(jobs, r)     # same record writer (with checksum) for both
         fh.attrs["updated"] = store.now()
     with open(tmp, "rb+") as fh:
         os.fsync(fh.fileno())

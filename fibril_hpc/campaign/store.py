@@ -12,15 +12,20 @@ Layout (open it with h5py; every number is dimensionless, see the ``definitions`
                          F_P, F_A, d_tilde_max, d_tilde_at_F_A, n_pillars_in_contact_max, events,
                          wall_s, cg_iterations, cg_solves, fft_pairs (of the simulate call that
                          computed the job; shared by its group_size jobs of one loading path),
-                         group_size, rank, host, finished (UTC), scene_yaml, discretisation (JSON)
+                         group_size, rank, host, finished (UTC), scene_yaml, discretisation (JSON),
+                         checksum ("sha256:..." of the record; absent in records written before
+                         checksums existed, see fibril_hpc/campaign/integrity.py)
         loading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact}   (load to F_P)
         unloading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact} (pull-off)
+    /job_refs     object references to every /jobs/<key> (a second way to each record that
+                  survives damage to the link index of /jobs; used by ``salvage``)
 
-Crash safety: the published file is never opened for writing. A checkpoint copies it to a
-temporary file beside it, adds the records, ``fsync``-s and renames it into place; records
-finished since the last checkpoint live in ``<file>.journal`` (see
-:mod:`fibril_hpc.campaign.journal`). So a SIGKILL at any moment leaves a file that opens, plus a
-journal that the next run (or reader) replays. Readers never block the writer.
+Crash safety: the published file is never opened for writing. A checkpoint reads it, adds the
+records to that image in memory (libhdf5 never writes to the disk), checks the free space,
+writes a temporary file beside it, ``fsync``-s and renames it into place; records finished since
+the last checkpoint live in ``<file>.journal`` (see :mod:`fibril_hpc.campaign.journal`). So a
+SIGKILL at any moment leaves a file that opens, plus a journal that the next run (or reader)
+replays, and a full disk leaves the previous file. Readers never block the writer.
 """
 
 from __future__ import annotations
@@ -31,21 +36,22 @@ import io
 import json
 import logging
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import h5py
 import numpy as np
 
-from ..errors import DamagedFileError, StoreError
+from ..errors import StoreError
 from ..files import write_bytes_atomically
 from . import integrity
+from .h5read import (PROGRAM, REFS, H5Read, damaged_error, is_campaign_file, read_h5_checked,
+                     read_h5_records, read_h5_salvage, read_root, warn_corrupt)
 from . import journal as _journal
 from .record import BRANCHES, CURVE_KEYS, SCALAR_KEYS
 from .spec import KEY_EXCLUDED_SOLVER
 
 log = logging.getLogger(__name__)
 
-PROGRAM = "fibril-hpc campaign"
 FORMAT_VERSION = 1
 KEY_DEFINITION = ("first 16 hex digits of SHA-256 of the job's single-preload scene as canonical "
                   "JSON (sorted keys) of k_tilde, sigma_tilde, seed, the preload and every field "
@@ -57,170 +63,16 @@ def now() -> str:
     return _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
 
 
-def _attr(v):
-    if isinstance(v, bytes):
-        return v.decode()
-    if isinstance(v, np.generic):
-        return v.item()
-    return v
-
-
-def is_campaign_file(path: str) -> bool:
-    """Whether ``path`` is an HDF5 file written by fibril-campaign."""
-    try:
-        with h5py.File(path, "r") as fh:
-            return fh.attrs.get("program") == PROGRAM
-    except Exception:  # noqa: BLE001 - a damaged file raises many kinds of error
-        return False
-
-
-def _damaged(path: str, exc) -> DamagedFileError:
-    return DamagedFileError(
-        f"{path}: the HDF5 structure is damaged ({type(exc).__name__}: "
-        f"{str(exc).splitlines()[0][:160] if str(exc) else ''}); "
-        f"`fibril-campaign salvage {path} -o NEW.h5` copies every readable, verified record")
-
-
-def read_root(path: str) -> dict:
-    """Root attributes of a campaign file (StoreError if it is not one)."""
-    try:
-        with h5py.File(path, "r") as fh:
-            attrs = {k: _attr(v) for k, v in fh.attrs.items()}
-    except FileNotFoundError:
-        raise StoreError(f"cannot open {path}: no such file") from None
-    except Exception as exc:  # noqa: BLE001
-        if _is_hdf5(path):
-            raise _damaged(path, exc) from None
-        raise StoreError(f"cannot open {path} as HDF5: {exc}") from None
-    if attrs.get("program") != PROGRAM:
-        raise StoreError(f"{path} is not a fibril-hpc campaign file")
-    return attrs
-
-
-def _is_hdf5(path: str) -> bool:
-    """Whether ``path`` starts like an HDF5 file (signature at offset 0)."""
-    try:
-        with open(path, "rb") as fh:
-            return fh.read(8) == b"\x89HDF\r\n\x1a\n"
-    except OSError:
-        return False
-
-
-def _read_group(g) -> dict:
-    rec = {k: _attr(v) for k, v in g.attrs.items()}
-    for branch in BRANCHES:
-        if branch in g:
-            rec[branch] = {k: g[branch][k][()] for k in CURVE_KEYS if k in g[branch]}
-        else:
-            rec[branch] = None
-    return rec
-
-
-@dataclass
-class H5Read:
-    """What the HDF5 file holds: verified (or unchecked, older) records and the corrupt ones."""
-
-    root: dict = field(default_factory=dict)
-    records: dict = field(default_factory=dict)
-    corrupt: dict = field(default_factory=dict)      # key -> why
-    unchecked: int = 0
-
-
-def read_h5_checked(path: str, curves: bool = True, tolerant: bool = False) -> H5Read:
-    """Every record of the HDF5 file, each checked against its checksum (see
-    :mod:`.integrity`). A record that does not match, or cannot be read, is left out and listed
-    in ``corrupt``; a damaged file structure raises :class:`DamagedFileError` (one line) unless
-    ``tolerant`` (salvage: take whatever still reads, attribute by attribute)."""
-    out = H5Read()
-    if not os.path.exists(path):
-        return out
-    try:
-        fh = h5py.File(path, "r")
-    except Exception as exc:  # noqa: BLE001
-        if tolerant:
-            return out
-        if _is_hdf5(path):
-            raise _damaged(path, exc) from None
-        raise StoreError(f"cannot open {path} as HDF5: {exc}") from None
-    with fh:
-        try:
-            out.root = _root_attrs(fh, tolerant)
-            jobs = fh.get("jobs")
-            keys = _job_names(jobs, tolerant)
-        except Exception as exc:  # noqa: BLE001
-            raise _damaged(path, exc) from None
-        if out.root.get("program") != PROGRAM and not tolerant:
-            raise StoreError(f"{path} is not a fibril-hpc campaign file")
-        for k in keys:
-            try:
-                rec = _read_group(jobs[k])
-            except Exception as exc:  # noqa: BLE001 - a damaged group is one corrupt record
-                out.corrupt[k] = f"unreadable ({type(exc).__name__})"
-                continue
-            state = integrity.check(rec)
-            if state == integrity.CORRUPT or rec.get("key", k) != k:
-                out.corrupt[k] = "checksum mismatch"
-                continue
-            out.unchecked += state == integrity.UNCHECKED
-            if not curves:
-                rec.pop("loading", None)
-                rec.pop("unloading", None)
-            out.records[k] = rec
-    return out
-
-
-def _root_attrs(fh, tolerant: bool) -> dict:
-    if not tolerant:
-        return {k: _attr(v) for k, v in fh.attrs.items()}
-    out = {}
-    try:
-        names = list(fh.attrs)
-    except Exception:  # noqa: BLE001
-        return out
-    for k in names:
-        try:
-            out[k] = _attr(fh.attrs[k])
-        except Exception:  # noqa: BLE001 - a damaged attribute is left out
-            pass
-    return out
-
-
-def _job_names(jobs, tolerant: bool) -> list:
-    if jobs is None:
-        return []
-    if not tolerant:
-        return list(jobs)
-    names = []
-    try:
-        n = jobs.id.get_num_objs()
-    except Exception:  # noqa: BLE001
-        return names
-    for i in range(n):
-        try:
-            names.append(jobs.id.get_objname_by_idx(i).decode())
-        except Exception:  # noqa: BLE001 - a damaged link is skipped
-            pass
-    return names
-
-
-def read_h5_salvage(path: str) -> H5Read:
-    """Whatever still reads and verifies in a damaged campaign file (see :mod:`.verify`)."""
-    return read_h5_checked(path, curves=True, tolerant=True)
-
-
-def _warn_corrupt(path: str, got: H5Read) -> None:
-    if got.corrupt:
-        keys = sorted(got.corrupt)
-        log.warning("%s: %d corrupt record(s) left out (%s%s); `fibril-campaign verify %s` lists "
-                    "them, resuming recomputes them", path, len(keys), ", ".join(keys[:3]),
-                    " ..." if len(keys) > 3 else "", path)
-
-
-def read_h5_records(path: str, curves: bool = True) -> tuple[dict, dict]:
-    """(root attrs, {key: record}) from the HDF5 file alone (corrupt records left out)."""
-    got = read_h5_checked(path, curves)
-    _warn_corrupt(path, got)
-    return got.root, got.records
+def _write_references(fh, jobs) -> None:
+    """(Re)write ``/job_refs``: one object reference per job group, a second way to every
+    record that does not depend on the link index of ``/jobs``."""
+    if REFS in fh:
+        del fh[REFS]
+    names = list(jobs)
+    refs = np.empty(len(names), dtype=h5py.ref_dtype)
+    for i, k in enumerate(names):
+        refs[i] = jobs[k].ref
+    fh.create_dataset(REFS, data=refs, dtype=h5py.ref_dtype)
 
 
 def newer(new: dict, old: dict | None) -> bool:
@@ -263,7 +115,7 @@ def read_snapshot(path: str, curves: bool = True) -> Snapshot:
     read first so that a checkpoint that happens in between cannot hide a record."""
     jdata = _journal.read_bytes(_journal.journal_path(path))
     got = read_h5_checked(path, curves)
-    _warn_corrupt(path, got)
+    warn_corrupt(path, got)
     scan = _journal.scan(jdata, accepted_hashes(got.root))
     msg = scan.message(_journal.journal_path(path))
     if msg:
@@ -288,7 +140,8 @@ def read_records(path: str, curves: bool = True) -> tuple[dict, dict, int]:
     return s.root, s.records, s.pending
 
 
-def _write_record(jobs, rec: dict) -> None:
+def write_record(jobs, rec: dict) -> None:
+    """Write one record (sealed with its checksum) as ``jobs/<key>``, replacing an older one."""
     key = rec["key"]
     if key in jobs:
         del jobs[key]
@@ -346,12 +199,13 @@ def checkpoint(path: str, root_attrs: dict, records, drop=()) -> None:
                 if key in jobs:
                     del jobs[key]
             for rec in records:
-                _write_record(jobs, rec)
+                write_record(jobs, rec)
+            _write_references(fh, jobs)
             for k, v in root_attrs.items():
                 fh.attrs[k] = v
             fh.attrs["updated"] = now()
     except (OSError, RuntimeError, KeyError, ValueError) as exc:
-        raise _damaged(path, exc) from None
+        raise damaged_error(path, exc) from None
     write_bytes_atomically(path, buf.getbuffer(), "checkpoint copy",
                            "." + os.path.basename(path) + ".ckpt-")
 
@@ -390,6 +244,7 @@ def write_merged(path: str, root_attrs: dict, records) -> None:
     checkpoint(path, root_attrs, records)
 
 
-__all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_snapshot",
-           "checkpoint", "root_attrs_for", "write_merged", "is_campaign_file",
-           "clean_temporaries", "newer", "accepted_hashes", "H5Read", "Snapshot"]
+__all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",
+           "read_snapshot", "checkpoint", "root_attrs_for", "write_merged", "write_record",
+           "is_campaign_file", "clean_temporaries", "newer", "accepted_hashes", "H5Read",
+           "Snapshot", "PROGRAM", "REFS"]
