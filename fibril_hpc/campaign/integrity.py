@@ -12,7 +12,7 @@ or ``None`` values left out) the name, a type tag and the value (``i`` decimal i
 dtype, shape and raw little-endian bytes. Each piece is length-prefixed so that no two different
 records serialise alike.
 
-Records written before checksums existed (by fibril-hpc 0.1.0, same format_version 1) have
+Records written before checksums existed (older files of the same format_version 1) have
 no ``checksum`` attribute: they are *unchecked*. They are read and resumed exactly as before,
 and ``fibril-campaign verify`` counts them separately; nothing vouches for them.
 """
