@@ -119,6 +119,23 @@ def test_damaged_frame_keeps_later_frames_and_quarantines(tmp_path, caplog):
     assert any("quarantine" in r.getMessage() for r in caplog.records)
 
 
+def test_a_frame_being_written_is_not_damage(tmp_path, caplog):
+    """A reader racing the writer sees a partial last frame: no warning, the rest is read."""
+    path = str(tmp_path / "x.h5.journal")
+    frames = [J.encode(record(i)) for i in range(3)]
+    whole = b"".join(frames)
+    for cut in (1, 3, 20, 44, 50, len(frames[2]) - 1):
+        with open(path, "wb") as fh:
+            fh.write(whole[:len(whole) - len(frames[2]) + cut])
+        caplog.clear()
+        got, s = J.read(path)
+        assert len(got) == 2 and s.torn is not None and not s.damaged, cut
+        assert s.message(path) == "" and not caplog.records
+    w = J.JournalWriter(path)              # the writer cuts it off (to the quarantine), quietly
+    w.close()
+    assert J.scan(slurp(path)).clean and len(w.replayed) == 2
+
+
 def test_foreign_and_keyless_frames_are_refused(tmp_path):
     """Defect 7: a valid frame of another campaign was folded in; a frame without a key raised."""
     path = str(tmp_path / "x.h5.journal")
@@ -211,7 +228,8 @@ def test_fuzz_reader_never_raises_nor_invents(ops, gaps, tail):
         if op[0] == "keep" and (i < N_FRAMES - 1 or len(gaps[-1]) >= tail):
             assert WRITTEN[i]["key"] in keys
     # the reported stretches never overlap the records returned
-    spans = sorted([(a, b) for a, b, _ in s.records] + s.damaged + s.old + s.foreign)
+    spans = sorted([(a, b) for a, b, _ in s.records] + s.damaged + s.old + s.foreign
+                   + ([s.torn] if s.torn else []))
     assert all(spans[i][1] <= spans[i + 1][0] for i in range(len(spans) - 1))
     assert sum(b - a for a, b in spans) == len(data)
 

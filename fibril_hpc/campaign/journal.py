@@ -128,6 +128,9 @@ class Scan:
         self.damaged = []        # (start, end) byte ranges: corrupt, torn, malformed, unknown
         self.old = []            # (start, end) frames of the old pickle format (never unpickled)
         self.foreign = []        # (start, end) intact frames of another campaign
+        #: (start, end) of an unfinished last frame: a write in progress (a reader racing the
+        #: writer) or cut short by a kill; expected, so never reported as damage
+        self.torn = None
         self.size = 0
 
     def _bad(self, start, end):
@@ -139,7 +142,7 @@ class Scan:
     @property
     def clean(self) -> bool:
         """Whether every byte belongs to an intact record of an accepted campaign."""
-        return not (self.damaged or self.old or self.foreign)
+        return not (self.damaged or self.old or self.foreign or self.torn)
 
     def message(self, path: str) -> str:
         """One line describing what is not intact ("" when everything is)."""
@@ -172,10 +175,29 @@ def scan(data: bytes, accept=None) -> Scan:
         if got:
             pos = got
             continue
+        if _unfinished(data, pos):
+            out.torn = (pos, n)
+            break
         nxt = _next_magic(data, pos + 1)
         out._bad(pos, nxt)
         pos = nxt
     return out
+
+
+def _unfinished(data: bytes, pos: int) -> bool:
+    """Whether ``data[pos:]`` is the beginning of a frame that has not been written to its end
+    (a magic prefix, or a header whose checksum holds and whose frame runs past the end)."""
+    rest = len(data) - pos
+    if rest < len(MAGIC):
+        return MAGIC.startswith(data[pos:])
+    if not data.startswith(MAGIC, pos):
+        return False
+    if rest < HEAD_SIZE:
+        return True
+    _, length, _ = _HEAD.unpack_from(data, pos)
+    (hcrc,) = _CRC.unpack_from(data, pos + _HEAD.size)
+    return (zlib.crc32(data[pos:pos + _HEAD.size]) == hcrc and length <= MAX_PAYLOAD
+            and pos + HEAD_SIZE + length + _CRC.size > len(data))
 
 
 def _next_magic(data: bytes, start: int) -> int:
@@ -263,7 +285,7 @@ class JournalWriter:
 
     def _repair(self, data: bytes, s: Scan) -> None:
         qpath = quarantine_path(self.path)
-        bad = sorted(s.damaged + s.old + s.foreign)
+        bad = sorted(s.damaged + s.old + s.foreign + ([s.torn] if s.torn else []))
         with open(qpath, "ab") as q:
             q.writelines(data[a:b] for a, b in bad)
             q.flush()
@@ -276,8 +298,13 @@ class JournalWriter:
         finally:
             os.close(fd)
         os.replace(tmp, self.path)
-        log.warning("%s; %d byte(s) moved to %s", s.message(self.path),
-                    sum(b - a for a, b in bad), qpath)
+        msg = s.message(self.path)
+        moved = sum(b - a for a, b in bad)
+        if msg:
+            log.warning("%s; %d byte(s) moved to %s", msg, moved, qpath)
+        else:        # only the unfinished frame of a killed writer (its job is recomputed)
+            log.info("journal %s: an unfinished last frame (%d bytes) moved to %s", self.path,
+                     moved, qpath)
 
     def append(self, record: dict) -> None:
         """Append one frame and ``fsync``; on failure (a full disk) the torn frame is cut off
