@@ -4,12 +4,13 @@ Modules, one job each:
 
 - inputs: :mod:`.spec` (grid -> jobs with stable keys), :mod:`.estimate` (cost model);
 - records: :mod:`.record` (:class:`JobRecord`, the one field list), :mod:`.journal` +
-  :mod:`.store` (the crash-safe HDF5 file), :mod:`.writer` (the single writer);
+  :mod:`.store` (the crash-safe HDF5 file), :mod:`.h5read` (reading it, checked),
+  :mod:`.integrity` (record checksums), :mod:`.writer` (the single writer);
 - running: :mod:`.execute` (one task), :mod:`.runner` (serial), :mod:`.mpi` (master/worker, the
   only mpi4py import), :mod:`.launcher` (launcher detection), :mod:`.control` (stop signals),
   :mod:`.progress`;
 - reading: :mod:`.data` (:func:`load_campaign`), :mod:`.status`, :mod:`.merge`, :mod:`.export`,
-  :mod:`.report`.
+  :mod:`.report`, :mod:`.verify` (``verify`` and ``salvage``).
 
 The command line (``fibril-campaign``) is :mod:`fibril_hpc.cli.campaign`.
 """
