@@ -513,3 +513,8 @@ def test_1_resume_on_a_still_full_disk_exits_75_on_every_rank(finished, tmp_path
     assert p.returncode == 75, p.stderr
     assert "Traceback" not in p.stderr
     assert "disk full during checkpoint copy" in one_line(p.stderr)
+
+
+def test_fibril_run_summary_says_the_preload_touches_no_pillar(tmp_path, capsys):
+    code, out, _ = fibril_run([_scene_yaml(tmp_path, F_P=None, d_tilde=-1.0)], capsys)
+    assert code == 0 and "note: the preload touches no pillar" in out
