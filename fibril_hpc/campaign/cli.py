@@ -55,11 +55,11 @@ def _parser() -> _Parser:
     rp = sub.add_parser("report", help="plots and the alpha, beta, sigma_c table")
     rp.add_argument("file")
     rp.add_argument("--out", required=True, metavar="DIR")
-    rp.add_argument("--linear-max", type=float, default=None, metavar="F_P",
-                    help="upper F~_P of the linear stage (default: see README, 'Report')")
-    rp.add_argument("--plateau-tol", type=float, default=0.05, metavar="REL",
-                    help="plateau reached when F~_A changes by less than REL between the two "
-                         "largest preloads (default 0.05)")
+    rp.add_argument("--law", default="min", choices=("min", "tanh"),
+                    help="law fitted per (k~, sigma~): min (F~_A = min(c F~_P, plateau), the "
+                         "default) or tanh (plateau tanh(c F~_P / plateau)); README, 'Report'")
+    rp.add_argument("--n-boot", type=int, default=400, metavar="N",
+                    help="bootstrap resamples over seeds for the intervals (default 400)")
     e = sub.add_parser("export", help="one CSV row per job")
     e.add_argument("file")
     e.add_argument("--csv", required=True, metavar="OUT.csv")
@@ -337,13 +337,10 @@ def cmd_report(args) -> int:
     parent = os.path.dirname(os.path.abspath(args.out))
     if not os.path.isdir(parent):
         raise ConfigError("--out", args.out, "a folder whose parent exists")
-    if args.linear_max is not None and not (args.linear_max > 0):
-        raise ConfigError("--linear-max", args.linear_max, "a number > 0")
-    if not (0 < args.plateau_tol < 1):
-        raise ConfigError("--plateau-tol", args.plateau_tol, "a number in (0, 1)")
+    if not 20 <= args.n_boot <= 100000:
+        raise ConfigError("--n-boot", args.n_boot, "an integer in [20, 100000]")
     os.makedirs(args.out, exist_ok=True)
-    files = write_report(args.file, args.out, linear_max=args.linear_max,
-                         plateau_tol=args.plateau_tol)
+    files = write_report(args.file, args.out, law=args.law, n_boot=args.n_boot)
     for f in files:
         print(f)
     return 0
