@@ -7,12 +7,11 @@ Public API::
     result.main.F_A, result.main.unloading.F_tilde
 """
 
-__version__ = "0.1.0"
-
-from .errors import ConfigError, FibrilError, NoConvergenceError, StoreError  # noqa: E402
-from .scene import Scene, SolverOptions, scene_from_dict  # noqa: E402
-from .api import simulate  # noqa: E402
-from .campaign.data import load_campaign  # noqa: E402
+from ._version import __version__
+from .api import simulate
+from .campaign.data import load_campaign
+from .errors import ConfigError, FibrilError, NoConvergenceError, StoreError
+from .scene import Scene, SolverOptions, scene_from_dict
 
 __all__ = ["Scene", "SolverOptions", "scene_from_dict", "simulate", "ConfigError",
            "FibrilError", "NoConvergenceError", "StoreError", "load_campaign", "__version__"]

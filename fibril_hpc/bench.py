@@ -470,7 +470,7 @@ def section_campaign(cfg, floors, log):
         out = os.path.join(tmp, "bench.h5")
         exe = shutil.which("fibril-campaign", path=os.path.dirname(sys.executable)) or \
             shutil.which("fibril-campaign")
-        base = [exe] if exe else [sys.executable, "-m", "fibril_hpc.campaign.cli"]
+        base = [exe] if exe else [sys.executable, "-m", "fibril_hpc.cli.campaign"]
         run = base + ["run", grid, "--output", out, "--no-progress", "--checkpoint-s", "5"]
         mpirun = shutil.which("mpirun", path=os.path.dirname(sys.executable)) or \
             shutil.which("mpirun")

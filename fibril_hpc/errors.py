@@ -36,3 +36,13 @@ class NoConvergenceError(FibrilError, RuntimeError):
 
 class StoreError(FibrilError, OSError):
     """An output file cannot be written or does not match what is about to be written."""
+
+
+# Exit statuses of the commands (defined here once; the CLI and the campaign runners use them).
+EXIT_OK = 0
+#: some campaign jobs failed (recorded with their reason), or a run's status is not ok
+EXIT_FAILED = 1
+#: a user mistake (a :class:`ConfigError`): one line on stderr, nothing written
+EXIT_USAGE = 2
+#: interrupted by a stop signal (EX_TEMPFAIL): rerun the same command to resume
+EXIT_INTERRUPTED = 75

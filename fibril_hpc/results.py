@@ -122,15 +122,15 @@ class SimulationResult:
         out["discretisation"] = self.discretisation
         out["scene"] = self.scene.to_dict()
         out["versions"] = self.versions
-        return _json_safe(out)
+        return json_safe(out)
 
 
-def _json_safe(obj):
+def json_safe(obj):
     """Replace non-finite floats by strings ("inf", "-inf", "nan") and numpy scalars by Python."""
     if isinstance(obj, dict):
-        return {k: _json_safe(v) for k, v in obj.items()}
+        return {k: json_safe(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_json_safe(v) for v in obj]
+        return [json_safe(v) for v in obj]
     if isinstance(obj, (np.integer,)):
         return int(obj)
     if isinstance(obj, (float, np.floating)):
@@ -143,7 +143,7 @@ def _json_safe(obj):
 
 def software_versions() -> dict:
     """Versions of everything that determines a result, stored in every output."""
-    from . import __version__
+    from ._version import __version__
     from .fft import FFTPair
     from .grid import RNG_NAME
 

@@ -19,7 +19,6 @@ leaves nothing behind and never a half-written file.
 
 from __future__ import annotations
 
-import contextlib
 import datetime as _dt
 import json
 import os
@@ -28,14 +27,14 @@ import tempfile
 import numpy as np
 
 from .config import scene_to_yaml
-from .errors import StoreError
-from .results import SimulationResult, _json_safe
+from .files import discard_on_failure
+from .results import SimulationResult, json_safe
 
 PROGRAM = "fibril-hpc"
 
 
 def _attrs_json(obj) -> str:
-    return json.dumps(_json_safe(obj), sort_keys=True)
+    return json.dumps(json_safe(obj), sort_keys=True)
 
 
 def _write_curve(group, name, curve):
@@ -59,7 +58,7 @@ def _write_state(group, name, state):
 
 def write_result(group, result: SimulationResult) -> None:
     """Write one simulation into an (empty) h5py group."""
-    from . import __version__
+    from ._version import __version__
 
     a = group.attrs
     a["program"] = PROGRAM
@@ -87,35 +86,6 @@ def write_result(group, result: SimulationResult) -> None:
         _write_state(g, "at_pulloff", r.at_pulloff)
         if r.let_go_d_tilde is not None:
             g.create_dataset("let_go_d_tilde", data=r.let_go_d_tilde)
-
-
-def check_writable(path: str, field: str = "--out") -> None:
-    """Raise a ConfigError early if ``path`` cannot be created (missing folder, no permission)."""
-    from .errors import ConfigError
-
-    folder = os.path.dirname(os.path.abspath(path)) or "."
-    if not os.path.isdir(folder):
-        raise ConfigError(field, path, "a path in an existing folder")
-    if not os.access(folder, os.W_OK):
-        raise ConfigError(field, path, "a path in a writable folder")
-    if os.path.isdir(path):
-        raise ConfigError(field, path, "a file path, not a folder")
-
-
-@contextlib.contextmanager
-def discard_on_failure(tmp: str, path: str):
-    """Remove the temporary file ``tmp`` if the block fails (so nothing half-written is left);
-    an ``OSError`` becomes a one-line :class:`StoreError` naming ``path``."""
-    try:
-        yield
-    except OSError as exc:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise StoreError(f"cannot write {path}: {exc}") from None
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def write_result_file(path: str, result: SimulationResult) -> None:

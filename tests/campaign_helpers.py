@@ -34,7 +34,7 @@ def campaign_cmd() -> list:
     exe = shutil.which("fibril-campaign", path=BIN) or shutil.which("fibril-campaign")
     if exe:
         return [exe]
-    return [sys.executable, "-m", "fibril_hpc.campaign.cli"]
+    return [sys.executable, "-m", "fibril_hpc.cli.campaign"]
 
 
 def env() -> dict:

@@ -8,7 +8,7 @@ import yaml
 from campaign_helpers import TINY, run, write_grid
 from fibril_hpc import ConfigError
 from fibril_hpc.campaign import spec_from_dict
-from fibril_hpc.campaign.cli import main
+from fibril_hpc.cli.campaign import main
 
 
 def _spec(**changes):

@@ -9,7 +9,7 @@ import h5py
 import numpy as np
 import pytest
 
-from fibril_hpc.cli import run_main
+from fibril_hpc.cli.run import main as run_main
 
 SCENE = """\
 n_side: 2

@@ -9,7 +9,7 @@ import h5py
 import pytest
 
 from fibril_hpc import ConfigError, Scene, SolverOptions, scene_from_dict
-from fibril_hpc.cli import run_main
+from fibril_hpc.cli.run import main as run_main
 from fibril_hpc.presets import PRESETS, solver_options
 
 

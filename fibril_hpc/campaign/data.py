@@ -7,10 +7,7 @@ import math
 
 import numpy as np
 
-COLUMNS = ("key", "k_tilde", "sigma_tilde", "preload_kind", "preload", "seed", "status",
-           "message", "F_P", "F_A", "d_tilde_max", "d_tilde_at_F_A", "n_pillars_in_contact_max",
-           "events", "wall_s", "cg_iterations", "cg_solves", "fft_pairs", "group_size", "rank",
-           "host", "finished", "record_id")
+from .record import COLUMNS
 
 
 class CampaignData:

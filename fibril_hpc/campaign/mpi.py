@@ -3,7 +3,7 @@
 Rank 0 is the master and the only writer: it hands out tasks one at a time (dynamic scheduling:
 job costs differ by orders of magnitude), writes every returned record, and polls with
 ``Iprobe`` plus a short sleep so that it does not spin the core its workers need. Workers run
-:func:`~fibril_hpc.campaign.runner.execute_task` (the very code path of the serial runner, so
+:func:`~fibril_hpc.campaign.execute.execute_task` (the very code path of the serial runner, so
 results are bitwise identical) with one :class:`~fibril_hpc.model.OperatorCache` each.
 
 Stop signals (SIGTERM/SIGINT/SIGUSR1) on any rank stop the hand-out; a worker that is computing
@@ -14,40 +14,23 @@ publishes everything, tells the workers to exit, and every rank exits with statu
 from __future__ import annotations
 
 import logging
-import os
 import sys
 import time
 from collections import deque
 
-from .runner import (EXIT_FAILED_JOBS, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, CampaignWriter,
-                     Interrupted, Progress, StopFlag, execute_task, order_tasks, signal_name)
+from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
+from ..model import OperatorCache
+from .control import Interrupted, StopFlag, interrupted_message
+from .execute import execute_task
+from .progress import Progress
+from .runner import order_tasks
+from .writer import CampaignWriter
 
 log = logging.getLogger(__name__)
 
 TAG_TASK = 11
 TAG_RESULT = 12
 POLL_S = 0.02
-#: environment variables in which launchers announce the number of ranks
-LAUNCHER_VARS = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "SLURM_STEP_NUM_TASKS", "PMIX_SIZE",
-                 "MPI_LOCALNRANKS")
-
-
-def launcher_size(environ=None) -> tuple[str, int] | None:
-    """(variable, ranks) that the launcher announced, or None when none is visible."""
-    env = os.environ if environ is None else environ
-    for var in ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "PMIX_SIZE", "SLURM_STEP_NUM_TASKS"):
-        v = env.get(var)
-        if v and v.strip().isdigit():
-            return var, int(v)
-    return None
-
-
-def under_launcher(environ=None) -> bool:
-    env = os.environ if environ is None else environ
-    return any(v in env for v in ("PMI_SIZE", "PMI_RANK", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK",
-                                  "SLURM_STEP_NUM_TASKS", "HYDI_CONTROL_FD", "PMI_FD"))
-
-
 def world():
     """Initialise MPI (lazily) and return COMM_WORLD."""
     from mpi4py import MPI
@@ -121,14 +104,13 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
             code = EXIT_INTERRUPTED
         else:
             c = writer.counts()
-            code = EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED_JOBS
+            code = EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED
     finally:
         stop.busy = False
         writer.close()
         stop.restore()
     if code == EXIT_INTERRUPTED:
-        print(f"fibril-campaign: interrupted ({signal_name(stop.signum)}); finished results are "
-              f"in {spec.output}; rerun the same command to resume", file=sys.stderr)
+        print(interrupted_message(spec.output, stop.signum), file=sys.stderr)
     for r in range(1, size):
         if r not in busy:
             comm.send(("stop", code), dest=r, tag=TAG_TASK)
@@ -141,8 +123,6 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
 
 
 def run_worker(comm) -> int:
-    from ..model import OperatorCache
-
     status, value = comm.bcast(None, root=0)
     if status != "ok":
         return value
@@ -172,5 +152,4 @@ def run_mpi(comm, spec, **kw) -> int:
     return run_worker(comm)
 
 
-__all__ = ["run_mpi", "run_master", "run_worker", "launcher_size", "under_launcher", "world",
-           "EXIT_OK", "EXIT_FAILED_JOBS", "EXIT_INTERRUPTED", "Interrupted"]
+__all__ = ["run_mpi", "run_master", "run_worker", "world"]

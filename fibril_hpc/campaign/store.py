@@ -36,17 +36,12 @@ import h5py
 import numpy as np
 
 from ..errors import StoreError
-from ..store import discard_on_failure
+from ..files import discard_on_failure, fsync_dir
 from . import journal as _journal
+from .record import BRANCHES, CURVE_KEYS, SCALAR_KEYS
 
 PROGRAM = "fibril-hpc campaign"
 FORMAT_VERSION = 1
-CURVE_KEYS = ("d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact")
-SCALAR_KEYS = ("key", "record_id", "campaign_hash", "k_tilde", "sigma_tilde", "preload_kind",
-               "preload", "seed", "status", "message", "F_P", "F_A", "d_tilde_max",
-               "d_tilde_at_F_A", "n_pillars_in_contact_max", "events", "wall_s", "cg_iterations",
-               "cg_solves", "fft_pairs", "group_size", "rank", "host", "finished", "scene_yaml",
-               "discretisation")
 KEY_DEFINITION = ("first 16 hex digits of SHA-256 of the job's single-preload scene as canonical "
                   "JSON (sorted keys) of k_tilde, sigma_tilde, seed, the preload and every field "
                   "that differs from its default, without solver.fft_threads, "
@@ -88,7 +83,7 @@ def read_root(path: str) -> dict:
 def _read_group(g, curves: bool) -> dict:
     rec = {k: _attr(v) for k, v in g.attrs.items()}
     if curves:
-        for branch in ("loading", "unloading"):
+        for branch in BRANCHES:
             if branch in g:
                 rec[branch] = {k: g[branch][k][()] for k in CURVE_KEYS if k in g[branch]}
             else:
@@ -150,25 +145,12 @@ def _write_record(jobs, rec: dict) -> None:
     for k in SCALAR_KEYS:
         if k in rec and rec[k] is not None:
             g.attrs[k] = rec[k]
-    for branch in ("loading", "unloading"):
+    for branch in BRANCHES:
         c = rec.get(branch)
         if c is not None:
             cg = g.create_group(branch)
             for k in CURVE_KEYS:
                 cg.create_dataset(k, data=np.asarray(c[k]))
-
-
-def _fsync_dir(folder: str) -> None:
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:  # pragma: no cover
-        return
-    try:
-        os.fsync(fd)
-    except OSError:  # pragma: no cover
-        pass
-    finally:
-        os.close(fd)
 
 
 def clean_temporaries(path: str) -> None:
@@ -211,15 +193,14 @@ def checkpoint(path: str, root_attrs: dict, records) -> None:
         with open(tmp, "rb+") as fh:
             os.fsync(fh.fileno())
         os.replace(tmp, path)
-        _fsync_dir(folder)
+        fsync_dir(folder)
 
 
 def root_attrs_for(spec, extended_from=None) -> dict:
     """Root attributes describing a campaign spec."""
-    from .. import __version__
+    from .._version import __version__
     from ..model import scene_scaling
-    from ..results import _json_safe, software_versions
-    from .store import __doc__ as layout
+    from ..results import json_safe, software_versions
 
     scaling, _, _ = scene_scaling(spec.base)
     defs = dict(scaling.definitions())
@@ -233,9 +214,9 @@ def root_attrs_for(spec, extended_from=None) -> dict:
         "campaign_yaml": spec.resolved_yaml(),
         "campaign_hash": spec.campaign_hash,
         "key_definition": KEY_DEFINITION,
-        "definitions": json.dumps(_json_safe(defs), sort_keys=True),
-        "versions": json.dumps(_json_safe(software_versions()), sort_keys=True),
-        "layout": layout,
+        "definitions": json.dumps(json_safe(defs), sort_keys=True),
+        "versions": json.dumps(json_safe(software_versions()), sort_keys=True),
+        "layout": __doc__,
         "n_jobs": len(spec.jobs),
         "extended_from": json.dumps(extended_from or []),
     }

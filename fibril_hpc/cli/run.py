@@ -1,27 +1,19 @@
-"""Command-line entry points. A user mistake is one line on stderr, exit status 2, nothing written."""
+"""``fibril-run``: simulate one scene (from YAML or a built-in) and print, store or plot it."""
 
 from __future__ import annotations
 
-import argparse
 import json
-import logging
 import sys
 
-from .errors import ConfigError, StoreError
+from .._version import __version__
+from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError, StoreError
+from ..results import software_versions
+from .common import Parser, error, setup_logging
 
-EXIT_USAGE = 2
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse that reports errors as one line and exit status 2."""
-
-    def error(self, message):  # noqa: D401
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
+PROG = "fibril-run"
 
 
 def _versions_text() -> str:
-    from .results import software_versions
-
     v = software_versions()
     return " ".join(f"{k}={v[k]}" for k in ("fibril_hpc", "numpy", "numba", "pyfftw", "fftw",
                                             "h5py", "hdf5", "python")) + f"\nrng: {v['rng']}"
@@ -50,11 +42,9 @@ def _human(result) -> str:
     return "\n".join(lines)
 
 
-def run_main(argv=None) -> int:
-    """``fibril-run``: simulate one scene."""
-    from . import __version__
-
-    p = _Parser(prog="fibril-run", description="Simulate the pull-off of one pillar-array scene.")
+def main(argv=None) -> int:
+    """``fibril-run``: simulate one scene; returns the exit status."""
+    p = Parser(prog=PROG, description="Simulate the pull-off of one pillar-array scene.")
     p.add_argument("scene", nargs="?", help="scene YAML file")
     p.add_argument("--builtin", metavar="NAME",
                    help="run a built-in scene instead: default, quick, single-pillar")
@@ -66,12 +56,12 @@ def run_main(argv=None) -> int:
     args = p.parse_args(argv)
     if args.version:
         print(f"fibril-hpc {__version__}\n{_versions_text()}")
-        return 0
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
-                        format="%(levelname)s %(name)s: %(message)s")
+        return EXIT_OK
+    setup_logging(args.verbose)
+    from ..config import builtin_scene, load_scene
+    from ..files import check_writable
+
     try:
-        from .config import builtin_scene, load_scene
-        from .store import check_writable
 
         if (args.scene is None) == (args.builtin is None):
             raise ConfigError("scene", args.scene, "a scene YAML path or --builtin NAME (one of them)")
@@ -81,35 +71,30 @@ def run_main(argv=None) -> int:
         if args.plot:
             check_writable(args.plot, "--plot")
     except ConfigError as exc:
-        print(f"fibril-run: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    from .api import simulate
+        return error(PROG, exc, EXIT_USAGE)
+    from ..api import simulate
 
     result = simulate(scene)
     try:
         if args.out:
-            from .store import write_result_file
+            from ..store import write_result_file
 
             write_result_file(args.out, result)
         if args.plot:
-            from .plot import plot_result
+            from ..plot import plot_result
 
             plot_result(result, args.plot)
     except StoreError as exc:
-        print(f"fibril-run: error: {exc}", file=sys.stderr)
-        return 1
+        return error(PROG, exc, EXIT_FAILED)
     if args.json:
         print(json.dumps(result.summary()))
     else:
         print(_human(result))
-    return 0 if result.status == "ok" else 1
+    return EXIT_OK if result.status == "ok" else EXIT_FAILED
 
 
-def _entry(fn):
-    def main():
-        sys.exit(fn())
-    return main
-
+#: the historical name of :func:`main`
+run_main = main
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(run_main())
+    sys.exit(main())

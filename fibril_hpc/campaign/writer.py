@@ -1,0 +1,149 @@
+"""The only writer of a campaign file: :class:`CampaignWriter`.
+
+It holds the lock, checks that the file belongs to this grid, replays the journal of a killed
+run, appends each finished record to the journal and folds the journal into the HDF5 file at
+checkpoints (see :mod:`.store` and :mod:`.journal`).
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import time
+
+from ..errors import ConfigError, StoreError
+from ..files import check_writable
+from . import journal as _journal
+from . import store
+
+
+class CampaignWriter:
+    """The only writer of a campaign file: lock, identity check, journal replay, checkpoints.
+
+    Parameters
+    ----------
+    spec : CampaignSpec
+    extend : bool
+        Accept a file written from another grid; its records are kept and this grid's jobs added.
+    checkpoint_s : float
+        Fold the journal into the HDF5 file at most this often (and at the end).
+    """
+
+    def __init__(self, spec, *, extend: bool = False, checkpoint_s: float = 30.0):
+        self.spec = spec
+        self.path = spec.output
+        self.checkpoint_s = checkpoint_s
+        check_writable(self.path, "output")
+        extended_from = self._check_identity(extend)   # before anything is written
+        self._lock_fd = os.open(self.path + ".lock", os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(self._lock_fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(self._lock_fd)
+            raise ConfigError("output", self.path,
+                              "a file that no other running campaign is writing (it is locked)") \
+                from None
+        store.clean_temporaries(self.path)
+        self.root_attrs = store.root_attrs_for(spec, extended_from)
+        _, h5recs = store.read_h5_records(self.path, curves=False)
+        self.records = {k: {"status": r.get("status"), "record_id": r.get("record_id")}
+                        for k, r in h5recs.items()}
+        self.journal = _journal.JournalWriter(_journal.journal_path(self.path))
+        self._unpublished = []
+        for r in self.journal.replayed:
+            if r.get("type") == "job":
+                self._remember(r)
+        self.journal.replayed = None
+        self._last_ckpt = time.monotonic()
+        self.checkpoint(force=True)
+
+    def _check_identity(self, extend: bool):
+        if os.path.exists(self.path):
+            try:
+                root = store.read_root(self.path)
+            except StoreError as exc:
+                raise ConfigError("output", self.path,
+                                  f"a fibril-hpc campaign file or a new name ({exc})") from None
+            prev = root.get("campaign_hash")
+            history = []
+            try:
+                history = json.loads(root.get("extended_from", "[]"))
+            except ValueError:
+                history = []
+            if prev != self.spec.campaign_hash:
+                if not extend:
+                    raise ConfigError(
+                        "output", self.path,
+                        f"a file of this grid: it holds campaign {str(prev)[:12]} from another grid"
+                        f" (this grid is {self.spec.campaign_hash[:12]}); pass --extend to add "
+                        "this grid's jobs to it, or choose another output")
+                history.append({"campaign_hash": prev, "campaign_yaml": root.get("campaign_yaml")})
+            return history
+        jrecs, _ = _journal.read(_journal.journal_path(self.path))
+        hashes = {r.get("campaign_hash") for r in jrecs if r.get("type") == "job"}
+        other = hashes - {self.spec.campaign_hash}
+        if other and not extend:
+            raise ConfigError("output", self.path,
+                              "a file of this grid: its journal holds records of another grid; "
+                              "pass --extend to keep them")
+        return []
+
+    def _remember(self, rec):
+        old = self.records.get(rec["key"])
+        if store.newer(rec, old):
+            self.records[rec["key"]] = {"status": rec["status"], "record_id": rec["record_id"]}
+            self._unpublished.append(rec)
+
+    # -------------------------------------------------------------- queries
+    def keys_to_run(self, retry_failed: bool) -> list:
+        out = []
+        for j in self.spec.jobs:
+            r = self.records.get(j.key)
+            if r is None or (retry_failed and r["status"] != "done"):
+                out.append(j.key)
+        return out
+
+    def counts(self) -> dict:
+        keys = {j.key for j in self.spec.jobs}
+        done = sum(1 for k in keys if self.records.get(k, {}).get("status") == "done")
+        failed = sum(1 for k in keys if self.records.get(k, {}).get("status") == "failed")
+        return {"jobs": len(keys), "done": done, "failed": failed,
+                "pending": len(keys) - done - failed}
+
+    # -------------------------------------------------------------- writing
+    def add(self, records) -> None:
+        for rec in records:
+            self.journal.append(rec)
+            self._remember(rec)
+        self.checkpoint()
+
+    def checkpoint(self, force: bool = False) -> None:
+        if not force and (not self._unpublished
+                          or time.monotonic() - self._last_ckpt < self.checkpoint_s):
+            return
+        recs = []
+        for r in self._unpublished:
+            r = dict(r)
+            r.pop("type", None)
+            recs.append(r)
+        t0 = time.monotonic()
+        store.checkpoint(self.path, self.root_attrs, recs)
+        self.journal.reset()
+        self._unpublished = []
+        self._last_ckpt = time.monotonic()
+        # a checkpoint copies the file: keep its cost below ~10 % of the run however big it gets
+        self.checkpoint_s = max(self.checkpoint_s, 10.0 * (self._last_ckpt - t0))
+
+    def close(self) -> None:
+        try:
+            self.checkpoint(force=bool(self._unpublished))
+        finally:
+            self.journal.close()
+            try:
+                fcntl.flock(self._lock_fd, fcntl.LOCK_UN)
+            finally:
+                os.close(self._lock_fd)
+
+
+__all__ = ["CampaignWriter"]

@@ -1,0 +1,231 @@
+"""``fibril-campaign``: run | status | report | export | merge (the logic lives in ``campaign/``).
+
+A user mistake is one line on stderr and exit status 2 with nothing written. Exit statuses of a
+run: 0 every job done, 1 some jobs failed (recorded with their reason), 2 bad input,
+75 interrupted (rerun the same command to resume).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+
+from ..campaign.launcher import launcher_rank
+from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError, StoreError
+from ..files import check_writable
+from .common import Parser, error, setup_logging
+
+SUBCOMMANDS = ("run", "status", "report", "export", "merge")
+PROG = "fibril-campaign"
+
+
+def _parser() -> Parser:
+    p = Parser(prog=PROG, description="Parameter campaigns of fibril-hpc into one resumable "
+                "HDF5 file (serial, or master/worker under mpirun/srun).")
+    sub = p.add_subparsers(dest="cmd", parser_class=Parser)
+    r = sub.add_parser("run", help="run (or resume) a campaign (the default command)")
+    r.add_argument("grid", help="campaign grid YAML")
+    r.add_argument("--output", metavar="FILE.h5",
+                   help="output file (default: the grid's 'output', relative to its folder)")
+    r.add_argument("--dry-run", action="store_true", help="print jobs and estimated cost; run nothing")
+    r.add_argument("--retry-failed", action="store_true", help="rerun jobs recorded as failed")
+    r.add_argument("--extend", action="store_true",
+                   help="accept an output file written from another grid and add this grid's jobs")
+    r.add_argument("--checkpoint-s", type=float, default=30.0, metavar="S",
+                   help="publish finished records into the HDF5 file at most every S seconds "
+                        "(they are safe in the journal meanwhile; default 30)")
+    r.add_argument("--grace-s", type=float, default=120.0, metavar="S",
+                   help="on a stop signal, wait at most S seconds for jobs in flight (MPI)")
+    r.add_argument("--fft-threads", type=int, default=None, metavar="N",
+                   help="override solver.fft_threads of every job (threads per rank; not part of "
+                        "the job keys), e.g. $SLURM_CPUS_PER_TASK")
+    r.add_argument("--no-progress", action="store_true", help="no progress line")
+    r.add_argument("--serial", action="store_true",
+                   help="never initialise MPI, even under a launcher (one rank only)")
+    r.add_argument("-v", "--verbose", action="store_true")
+    s = sub.add_parser("status", help="progress of a campaign file (safe while it is written)")
+    s.add_argument("file")
+    s.add_argument("--json", action="store_true")
+    rp = sub.add_parser("report", help="plots and the alpha, beta, sigma_c table")
+    rp.add_argument("file")
+    rp.add_argument("--out", required=True, metavar="DIR")
+    rp.add_argument("--law", default="min", choices=("min", "tanh"),
+                    help="law fitted per (k~, sigma~): min (F~_A = min(c F~_P, plateau), the "
+                         "default) or tanh (plateau tanh(c F~_P / plateau)); README, 'Report'")
+    rp.add_argument("--n-boot", type=int, default=400, metavar="N",
+                    help="bootstrap resamples over seeds for the intervals (default 400)")
+    e = sub.add_parser("export", help="one CSV row per job")
+    e.add_argument("file")
+    e.add_argument("--csv", required=True, metavar="OUT.csv")
+    m = sub.add_parser("merge", help="merge campaign files into a new one")
+    m.add_argument("files", nargs="+")
+    m.add_argument("-o", "--output", required=True, metavar="ALL.h5")
+    return p
+
+
+def main(argv=None) -> int:
+    """``fibril-campaign``; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] not in SUBCOMMANDS and argv[0] not in ("-h", "--help"):
+        argv = ["run"] + argv
+    p = _parser()
+    if not argv:
+        p.print_usage(sys.stderr)
+        return error(PROG, "give a grid YAML (fibril-campaign grid.yaml) or a subcommand: "
+                     + ", ".join(SUBCOMMANDS))
+    args = p.parse_args(argv)
+    setup_logging(getattr(args, "verbose", False))
+    try:
+        return {"run": cmd_run, "status": cmd_status, "report": cmd_report,
+                "export": cmd_export, "merge": cmd_merge}[args.cmd](args)
+    except BrokenPipeError:            # e.g. `fibril-campaign status f.h5 | head`
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
+    except ConfigError as exc:
+        return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
+    except StoreError as exc:
+        return error(PROG, exc, EXIT_FAILED) if launcher_rank() == 0 else EXIT_FAILED
+
+
+def _existing(path, field):
+    from ..campaign.store import is_campaign_file
+
+    if not os.path.isfile(path):
+        raise ConfigError(field, path, "an existing campaign file")
+    if not is_campaign_file(path):
+        raise ConfigError(field, path, "a fibril-hpc campaign HDF5 file")
+
+
+# ------------------------------------------------------------------------------------ run
+def cmd_run(args) -> int:
+    """Run (or resume) a campaign, or print its plan with ``--dry-run``."""
+    from ..campaign.launcher import connect
+    from ..campaign.spec import load_spec
+
+    for name in ("checkpoint_s", "grace_s"):
+        v = getattr(args, name)
+        if not (v >= 0 and v < 1e7):
+            raise ConfigError("--" + name.replace("_", "-"), v, "a number of seconds in [0, 1e7)")
+    if args.fft_threads is not None and not 1 <= args.fft_threads <= 1024:
+        raise ConfigError("--fft-threads", args.fft_threads, "an integer in [1, 1024]")
+    spec = load_spec(args.grid, args.output)
+    if args.fft_threads is not None:
+        spec.base = spec.base.replace(solver=spec.base.solver.replace(
+            fft_threads=args.fft_threads))
+    comm = connect(serial=args.serial)
+    rank = 0 if comm is None else comm.Get_rank()
+    if args.dry_run:
+        if rank == 0:
+            _print_plan(spec, args.retry_failed)
+        return EXIT_OK
+    kw = dict(extend=args.extend, retry_failed=args.retry_failed, checkpoint_s=args.checkpoint_s,
+              progress=not args.no_progress)
+    if comm is None:
+        from ..campaign.runner import run_serial
+
+        return run_serial(spec, **kw)
+    from ..campaign.mpi import run_mpi
+
+    return run_mpi(comm, spec, grace_s=args.grace_s, **kw)
+
+
+def _print_plan(spec, retry_failed: bool) -> None:
+    from ..campaign.status import plan
+
+    pl = plan(spec, retry_failed)
+    print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
+          f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
+          f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds), "
+          f"{len(spec.tasks())} loading paths")
+    print(f"output {spec.output}: {pl.done} done, {pl.failed} failed, {len(pl.to_run)} to run "
+          f"in {len(pl.tasks)} simulate calls")
+    print(f"grid: {spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "
+          f"{pl.elements_per_pillar} elements per pillar, {pl.fft_pair_s * 1e3:.3f} ms per FFT "
+          f"pair with {spec.base.solver.threads} thread(s)")
+    est = pl.estimate_s
+    print(f"estimated cost ({pl.how}): {est / 3600:.3g} core-hours "
+          f"x {spec.base.solver.threads} thread(s) per rank "
+          f"(~{est / 60:.3g} min on one rank)")
+
+
+# ------------------------------------------------------------------------------------ status
+def cmd_status(args) -> int:
+    """Print the done/failed/pending counts of a campaign file (safe while it is written)."""
+    from ..campaign.status import file_status
+
+    _existing(args.file, "file")
+    st = file_status(args.file)
+    meta, tot = st.meta, st.totals
+    if args.json:
+        print(json.dumps({"file": args.file, "campaign_hash": meta.get("campaign_hash"),
+                          "updated": meta.get("updated"), **tot,
+                          "in_journal": st.in_journal,
+                          "by_k_tilde": {repr(k): v for k, v in st.by_k_tilde.items()}}))
+        return EXIT_OK
+    print(f"{args.file}: campaign {str(meta.get('campaign_hash'))[:12]}, "
+          f"updated {meta.get('updated')}"
+          + (f", {st.in_journal} record(s) in the journal" if st.in_journal else ""))
+    walls = st.done_wall_s
+    print(f"  {tot['done']} done, {tot['failed']} failed, {tot['pending']} pending"
+          + (f"; {sum(walls):.1f} s of compute in done jobs" if walls else ""))
+    print(f"  {'k_tilde':>10} {'done':>6} {'failed':>6} {'pending':>7}")
+    for k, d in st.by_k_tilde.items():
+        print(f"  {k:>10g} {d['done']:>6} {d['failed']:>6} {d['pending']:>7}")
+    for r in st.failed[:5]:
+        print(f"  failed {r['key']} (k~={r['k_tilde']:g}, sigma~={r['sigma_tilde']:g}, "
+              f"{r['preload_kind']}={r['preload']:g}, seed={r['seed']}): {r['message']}")
+    return EXIT_OK
+
+
+# ------------------------------------------------------------------------------------ export
+def cmd_export(args) -> int:
+    """Write one CSV row per job."""
+    from ..campaign.export import export_csv
+
+    _existing(args.file, "file")
+    check_writable(args.csv, "--csv")
+    n = export_csv(args.file, args.csv)
+    print(f"{args.csv}: {n} jobs")
+    return EXIT_OK
+
+
+# ------------------------------------------------------------------------------------ merge
+def cmd_merge(args) -> int:
+    """Merge campaign files into a new one."""
+    from ..campaign.merge import merge_files
+
+    for f in args.files:
+        _existing(f, "files")
+    check_writable(args.output, "--output")
+    if os.path.exists(args.output):
+        raise ConfigError("--output", args.output, "a new file name (it exists)")
+    if len(set(map(os.path.abspath, args.files))) != len(args.files):
+        raise ConfigError("files", args.files, "distinct files")
+    n = merge_files(args.files, args.output)
+    print(f"{args.output}: {n} jobs from {len(args.files)} files")
+    return EXIT_OK
+
+
+# ------------------------------------------------------------------------------------ report
+def cmd_report(args) -> int:
+    """Write the plots and the alpha, beta, sigma_c table."""
+    from ..campaign.report import write_report
+
+    _existing(args.file, "file")
+    if os.path.exists(args.out) and not os.path.isdir(args.out):
+        raise ConfigError("--out", args.out, "a folder (it is a file)")
+    parent = os.path.dirname(os.path.abspath(args.out))
+    if not os.path.isdir(parent):
+        raise ConfigError("--out", args.out, "a folder whose parent exists")
+    if not 20 <= args.n_boot <= 100000:
+        raise ConfigError("--n-boot", args.n_boot, "an integer in [20, 100000]")
+    os.makedirs(args.out, exist_ok=True)
+    files = write_report(args.file, args.out, law=args.law, n_boot=args.n_boot)
+    for f in files:
+        print(f)
+    return EXIT_OK
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
