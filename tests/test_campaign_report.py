@@ -10,7 +10,7 @@ import pytest
 from campaign_helpers import TINY, write_grid
 from fibril_hpc import load_campaign
 from fibril_hpc.campaign import fit, store
-from fibril_hpc.campaign.cli import main
+from fibril_hpc.cli.campaign import main
 from fibril_hpc.campaign.spec import spec_from_dict
 
 PRELOADS = [0.01, 0.02, 0.04, 0.08, 0.16, 0.32, 0.64, 1.3, 2.6, 5.0]
@@ -122,3 +122,23 @@ def test_report_on_a_real_campaign_writes_every_figure_and_table(tmp_path):
             assert r[col] == "" or math.isfinite(float(r[col]))
         assert r["sigma_tilde_c"] != "" or r["note"]
     assert main(["report", str(tmp_path / "tiny.h5"), "--out", str(out), "--n-boot", "3"]) == 2
+
+
+def test_frame_and_export_csv_parquet(tmp_path):
+    pd = pytest.importorskip("pandas")
+    pytest.importorskip("pyarrow")
+    path, _ = _synthetic(tmp_path, "min", seeds=2)
+    c = load_campaign(path, curves=False)
+    df = c.frame()
+    assert len(df) == len(c.jobs) == 2 * 3 * 2 * len(PRELOADS)
+    assert df["F_A"].dtype == float and df["seed"].dtype == "int64"
+    assert list(df["key"]) == [j["key"] for j in c.jobs]
+    assert np.array_equal(df["F_A"].to_numpy(), c.column("F_A"))
+    pq, cs = tmp_path / "o.parquet", tmp_path / "o.csv"
+    assert main(["export", path, "--csv", str(cs), "--parquet", str(pq)]) == 0
+    back = pd.read_parquet(pq)
+    assert list(back.columns) == list(df.columns)
+    assert np.array_equal(back["F_A"].to_numpy(), df["F_A"].to_numpy())
+    rows = list(csv.DictReader(cs.read_text().splitlines()))
+    assert [float(r["F_A"]) for r in rows] == list(df["F_A"])
+    assert main(["export", path]) == 2

@@ -55,9 +55,11 @@ def _parser() -> Parser:
                          "default) or tanh (plateau tanh(c F~_P / plateau)); README, 'Report'")
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
                     help="bootstrap resamples over seeds for the intervals (default 400)")
-    e = sub.add_parser("export", help="one CSV row per job")
+    e = sub.add_parser("export", help="one row per job: CSV and/or Parquet")
     e.add_argument("file")
-    e.add_argument("--csv", required=True, metavar="OUT.csv")
+    e.add_argument("--csv", metavar="OUT.csv", help="write a CSV file")
+    e.add_argument("--parquet", metavar="OUT.parquet",
+                   help="write a Parquet file (needs pandas and pyarrow: the 'report' extra)")
     m = sub.add_parser("merge", help="merge campaign files into a new one")
     m.add_argument("files", nargs="+")
     m.add_argument("-o", "--output", required=True, metavar="ALL.h5")
@@ -180,13 +182,25 @@ def cmd_status(args) -> int:
 
 # ------------------------------------------------------------------------------------ export
 def cmd_export(args) -> int:
-    """Write one CSV row per job."""
-    from ..campaign.export import export_csv
+    """Write one row per job as CSV and/or Parquet."""
+    from ..campaign.export import export_csv, export_parquet, parquet_available
 
     _existing(args.file, "file")
-    check_writable(args.csv, "--csv")
-    n = export_csv(args.file, args.csv)
-    print(f"{args.csv}: {n} jobs")
+    if not (args.csv or args.parquet):
+        raise ConfigError("export", None, "--csv OUT.csv and/or --parquet OUT.parquet")
+    for opt, path in (("--csv", args.csv), ("--parquet", args.parquet)):
+        if path:
+            check_writable(path, opt)
+    if args.parquet and not parquet_available():
+        raise ConfigError("--parquet", args.parquet,
+                          "a Parquet output with pandas and pyarrow installed "
+                          "(pip install 'fibril-hpc[report]'), or --csv")
+    if args.csv:
+        n = export_csv(args.file, args.csv)
+        print(f"{args.csv}: {n} jobs")
+    if args.parquet:
+        n = export_parquet(args.file, args.parquet)
+        print(f"{args.parquet}: {n} jobs")
     return EXIT_OK
 
 
