@@ -22,6 +22,7 @@ from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
 from ..model import OperatorCache
 from .control import Interrupted, StopFlag, interrupted_message
 from .execute import execute_task
+from .planner import make_planner
 from .progress import Progress
 from .runner import order_tasks
 from .writer import CampaignWriter
@@ -62,9 +63,9 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
     code = EXIT_OK
     busy: dict = {}
     try:
-        todo = writer.keys_to_run(retry_failed)
-        queue = deque(order_tasks(spec.tasks(todo)))
-        prog = Progress(len(todo), size - 1, enabled=progress)
+        planner = make_planner(spec, writer, retry_failed)
+        queue = deque(order_tasks(planner.initial()))
+        prog = Progress(sum(len(t.jobs) for t in queue), size - 1, enabled=progress)
         idle = deque(range(1, size))
         while idle and queue and not stop.stop:
             r = idle.popleft()
@@ -76,14 +77,18 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
             if comm.Iprobe(source=MPI.ANY_SOURCE, tag=TAG_RESULT, status=status):
                 src = status.Get_source()
                 recs = comm.recv(source=src, tag=TAG_RESULT)
-                busy.pop(src, None)
+                task = busy.pop(src, None)
                 if recs is None:          # the worker was signalled and abandoned its job
                     stop.stop = True
-                if queue and not stop.stop:
-                    busy[src] = queue.popleft()
-                    comm.send(("task", busy[src]), dest=src, tag=TAG_TASK)
                 else:
-                    idle.append(src)
+                    more = planner.after(task, recs)      # F_P: auto: the path's next round
+                    queue.extend(more)
+                    prog.total += sum(len(t.jobs) for t in more)
+                idle.append(src)
+                while idle and queue and not stop.stop:
+                    r = idle.popleft()
+                    busy[r] = queue.popleft()
+                    comm.send(("task", busy[r]), dest=r, tag=TAG_TASK)
                 if recs is not None:
                     writer.add(recs)
                     prog.update(recs, running=len(busy))
@@ -103,7 +108,7 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
         if interrupted:
             code = EXIT_INTERRUPTED
         else:
-            c = writer.counts()
+            c = planner.counts()
             code = EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED
     finally:
         stop.busy = False

@@ -8,11 +8,13 @@ from __future__ import annotations
 
 import logging
 import sys
+from collections import deque
 
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK
 from ..model import OperatorCache
 from .control import Interrupted, StopFlag, interrupted_message
 from .execute import execute_task
+from .planner import make_planner
 from .progress import Progress
 from .writer import CampaignWriter
 
@@ -50,25 +52,31 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
     stop = StopFlag().install()
     interrupted = False
     try:
-        todo = writer.keys_to_run(retry_failed)
-        tasks = order_tasks(spec.tasks(todo))
-        c = writer.counts()
-        log.info("campaign %s: %d jobs, %d to run", spec.campaign_hash[:12], c["jobs"], len(todo))
-        prog = Progress(len(todo), 1, enabled=progress)
+        planner = make_planner(spec, writer, retry_failed)
+        tasks = deque(order_tasks(planner.initial()))
+        n_todo = sum(len(t.jobs) for t in tasks)
+        log.info("campaign %s: %d to run", spec.campaign_hash[:12], n_todo)
+        prog = Progress(n_todo, 1, enabled=progress)
         ops = OperatorCache()
-        for n, task in enumerate(tasks):
+        n = 0
+        while tasks:
             if stop.stop or (max_tasks is not None and n >= max_tasks):
                 interrupted = stop.stop
                 break
+            task = tasks.popleft()
+            n += 1
             try:
                 recs = execute_task(task, spec.campaign_hash, ops, 0, stop)
             except Interrupted:
                 interrupted = True
                 break
             writer.add(recs)
+            more = planner.after(task, recs)      # F_P: auto: the path's next round
+            tasks.extend(more)
+            prog.total += sum(len(t.jobs) for t in more)
             prog.update(recs, running=0)
         interrupted = interrupted or stop.stop
-        partial = max_tasks is not None and len(tasks) > max_tasks
+        partial = bool(tasks)
         prog.show(force=True)
         prog.finish()
     finally:
@@ -80,7 +88,7 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
     if interrupted or partial:
         print(interrupted_message(spec.output, stop.signum), file=sys.stderr)
         return EXIT_INTERRUPTED
-    c = writer.counts()
+    c = planner.counts()
     return EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED
 
 

@@ -83,7 +83,9 @@ def plan(spec, retry_failed: bool = False) -> Plan:
     The estimate is the measured mean per job of the finished jobs when there are any, else
     the cost model of :mod:`.estimate`.
     """
-    todo = {j.key for j in spec.jobs}
+    jobs = spec.jobs if spec.auto is None else [    # F_P: auto: its round 0 only
+        j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
+    todo = {j.key for j in jobs}
     done = failed = 0
     walls = []
     if os.path.exists(spec.output):
@@ -100,7 +102,13 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                 failed += k in todo
                 if not retry_failed:
                     todo.discard(k)
-    tasks = spec.tasks(todo)
+    if spec.auto is None:
+        tasks = spec.tasks(todo)
+    else:
+        tasks = [spec.auto_task(p, [j.preload for j in t.jobs if j.key in todo])
+                 for p in spec.paths()
+                 for t in [spec.auto_task(p, spec.auto.start)]
+                 if any(j.key in todo for j in t.jobs)]
     pair_s, m, epp = fft_pair_seconds(spec.base)
     est = sum(task_seconds(t.scene, len(t.jobs), pair_s, epp) for t in tasks)
     how = "model"

@@ -136,10 +136,18 @@ def _print_plan(spec, retry_failed: bool) -> None:
     from ..campaign.status import plan
 
     pl = plan(spec, retry_failed)
-    print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
-          f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
-          f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds), "
-          f"{len(spec.tasks())} loading paths")
+    if spec.auto is None:
+        print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
+              f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
+              f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds), "
+              f"{len(spec.tasks())} loading paths")
+    else:
+        a = spec.auto
+        print(f"campaign {spec.campaign_hash[:12]}: F_P auto, {len(spec.paths())} loading paths "
+              f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
+              f"{len(spec.seeds)} seeds); round 0: F_P = {', '.join(f'{x:g}' for x in a.start)}; "
+              f"up to {a.rounds - 1} more rounds until {a.below} preloads lie below the kink and "
+              f"{a.above} above it (the counts and cost below are round 0's)")
     print(f"output {spec.output}: {pl.done} done, {pl.failed} failed, {len(pl.to_run)} to run "
           f"in {len(pl.tasks)} simulate calls")
     print(f"grid: {spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "
