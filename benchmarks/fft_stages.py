@@ -1,6 +1,6 @@
 """Time each stage of fibril's row-pruned FFT pair (one thread, CPU time) next to the floor pair.
 
-    python benchmarks/fft_stages.py 15 17 29 35    # pitches of an 18 x 18 brush: m = 540 625 1050 1260
+    python -m benchmarks.fft_stages 15 17 29 35    # pitches of an 18 x 18 brush: m = 540 625 1050 1260
 
 Used in benchmarks/NOTES.md (optimisation 2). Nothing here asserts a timing.
 """
@@ -8,25 +8,17 @@ import sys
 
 import numpy as np
 
-from fibril_hpc import bench
+from benchmarks.fibril_bench import timing
 from fibril_hpc.model import build_scene_model
 for pitch in [int(x) for x in sys.argv[1:]]:
-    model = build_scene_model(bench._scene(18, pitch))
+    model = build_scene_model(timing.bench_scene(18, pitch))
     op = model.operator; pr = op.pair; kh = op.kernel_hat
     pr.real_in[...] = np.random.default_rng(0).standard_normal(pr.real_in.shape)
-    st = {
-      "p1 r2c rows": pr._p1.execute,
-      "scatter rows": lambda: pr._full.__setitem__(pr.rows, pr._rows_hat),
-      "p2 c2c cols": pr._p2.execute,
-      "multiply": lambda: np.multiply(pr._spec, kh, out=pr._spec),
-      "p3 c2c cols inv": pr._p3.execute,
-      "gather rows": lambda: np.take(pr._spec, pr.rows, axis=0, out=pr._rows_back),
-      "p4 c2r rows": pr._p4.execute,
-    }
+    st = pr.stages(kh)
     tot = 0
     res = {}
     for k, f in st.items():
-        t = bench.time_call(f, 5, 0.05)["cpu_median_s"] * 1e3
+        t = timing.time_call(f, 5, 0.05)["cpu_median_s"] * 1e3
         res[k] = t; tot += t
-    fl = bench.floor_pair(op.m, "estimate", 5)["cpu_median_s"] * 1e3
+    fl = timing.floor_pair(op.m, "estimate", 5)["cpu_median_s"] * 1e3
     print(f"m={op.m} R={len(pr.rows)} floor {fl:.2f} ms; stages sum {tot:.2f} ms: " + ", ".join(f"{k} {v:.2f}" for k, v in res.items()))

@@ -2,7 +2,7 @@
 the big c2c transforms are contiguous; compared with fibril's FFTPair (same output to rounding), one
 thread, CPU time.
 
-    python benchmarks/transposed_pair.py 15 17 29 35    # pitches of an 18 x 18 brush
+    python -m benchmarks.transposed_pair 15 17 29 35    # pitches of an 18 x 18 brush
 
 Used in benchmarks/NOTES.md (optimisation 8). Nothing here asserts a timing.
 """
@@ -11,7 +11,7 @@ import sys
 import numpy as np
 import pyfftw
 
-from fibril_hpc import bench
+from benchmarks.fibril_bench import timing
 from fibril_hpc.model import build_scene_model
 
 class TransposedPair:
@@ -41,7 +41,7 @@ class TransposedPair:
         self.p4.execute()
 
 for pitch in [int(x) for x in sys.argv[1:]]:
-    model = build_scene_model(bench._scene(18, pitch))
+    model = build_scene_model(timing.bench_scene(18, pitch))
     op = model.operator; pr = op.pair
     tp = TransposedPair(op.m, pr.rows)
     khT = np.ascontiguousarray(op.kernel_hat.T)
@@ -49,7 +49,7 @@ for pitch in [int(x) for x in sys.argv[1:]]:
     pr.real_in[...] = x; tp.real_in[...] = x
     pr.convolve(op.kernel_hat); tp.convolve(khT)
     err = np.abs(pr.real_out - tp.real_out).max() / np.abs(pr.real_out).max()
-    a = bench.time_call(lambda: pr.convolve(op.kernel_hat), 5)["cpu_median_s"] * 1e3
-    b = bench.time_call(lambda: tp.convolve(khT), 5)["cpu_median_s"] * 1e3
-    a2 = bench.time_call(lambda: pr.convolve(op.kernel_hat), 5)["cpu_median_s"] * 1e3
+    a = timing.time_call(lambda: pr.convolve(op.kernel_hat), 5)["cpu_median_s"] * 1e3
+    b = timing.time_call(lambda: tp.convolve(khT), 5)["cpu_median_s"] * 1e3
+    a2 = timing.time_call(lambda: pr.convolve(op.kernel_hat), 5)["cpu_median_s"] * 1e3
     print(f"m={op.m}: current {a:.2f}/{a2:.2f} ms, transposed {b:.2f} ms, speedup {min(a,a2)/b:.2f}x, max rel diff {err:.1e}")

@@ -75,6 +75,25 @@ class FFTPair:
         else:
             raise ValueError(f"unknown FFT backend {backend!r}")
 
+    def work_arrays(self) -> dict:
+        """The buffers this pair owns, by name (for read-only use, e.g. memory accounting)."""
+        return {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k != "rows"}
+
+    def stages(self, kernel_hat: np.ndarray) -> dict:
+        """The stages of one pyfftw product, in order, as named callables (for timing them one by
+        one; running all of them in order is :meth:`convolve` without the pair count)."""
+        if self.backend != "pyfftw":
+            raise ValueError("stages exist for the pyfftw backend only")
+        return {
+            "p1 r2c rows": self._p1.execute,
+            "scatter rows": lambda: self._full.__setitem__(self.rows, self._rows_hat),
+            "p2 c2c cols": self._p2.execute,
+            "multiply": lambda: np.multiply(self._spec, kernel_hat, out=self._spec),
+            "p3 c2c cols inv": self._p3.execute,
+            "gather rows": lambda: np.take(self._spec, self.rows, axis=0, out=self._rows_back),
+            "p4 c2r rows": self._p4.execute,
+        }
+
     def convolve(self, kernel_hat: np.ndarray) -> None:
         """real_out <- rows of irfft2(rfft2(padded real_in) * kernel_hat), unnormalised."""
         if self.backend == "pyfftw":

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .fft import FFTPair
-from .greens import K00, kernel_spectrum, padded_size
+from .greens import K00, kernel_spectrum, love, padded_size
 from .scaling import E_STAR
 
 
@@ -24,11 +24,17 @@ class HalfSpace:
     geometry : Geometry
     backend, threads, planner :
         Passed to :class:`~fibril_hpc.fft.FFTPair`.
+    m : int, optional
+        Padded FFT size (default :func:`~fibril_hpc.greens.padded_size`); any ``m >= 2n - 1``
+        gives the same product up to rounding (benchmarks compare sizes with it).
     """
 
-    def __init__(self, geometry, backend="pyfftw", threads=1, planner="estimate"):
+    def __init__(self, geometry, backend="pyfftw", threads=1, planner="estimate", *,
+                 m: int | None = None):
         self.geometry = geometry
-        self.m = padded_size(geometry.n)
+        if m is not None and int(m) < 2 * geometry.n - 1:
+            raise ValueError(f"padded size m={m} is below 2n-1 = {2 * geometry.n - 1}")
+        self.m = padded_size(geometry.n) if m is None else int(m)
         rows = np.unique(geometry.iy)
         self.pair = FFTPair(self.m, rows, backend=backend, threads=threads, planner=planner)
         self.kernel_hat = kernel_spectrum(geometry.n, self.m, geometry.h)
@@ -43,12 +49,23 @@ class HalfSpace:
         # a direct sum costs ~n_active per load; an FFT pair ~m^2 log2(m)/2: break-even
         self.max_direct = max(8, int(self.m * self.m * np.log2(max(self.m, 2)) / (2 * n)))
 
+    @classmethod
+    def from_options(cls, geometry, options, *, m: int | None = None) -> HalfSpace:
+        """The operator a :class:`~fibril_hpc.scene.SolverOptions` asks for."""
+        return cls(geometry, backend=options.fft_backend, threads=options.threads,
+                   planner=options.fft_planner, m=m)
+
+    def work_arrays(self) -> dict:
+        """The arrays this operator owns besides its FFT pair's (see ``pair.work_arrays()``)."""
+        out = {"kernel_hat": self.kernel_hat, "index": self._idx}
+        if self._table is not None:
+            out["table"] = self._table
+        return out
+
     @property
     def table(self) -> np.ndarray:
         """Real-space influence coefficients K[|dy|, |dx|] on the n x n offsets (built lazily)."""
         if self._table is None:
-            from .greens import love
-
             off = np.arange(self.geometry.n) * self.geometry.h
             self._table = np.ascontiguousarray(love(off[:, None], off[None, :], self.geometry.h))
         return self._table
@@ -79,8 +96,6 @@ class HalfSpace:
 
     def dense(self) -> np.ndarray:
         """Dense influence matrix on the active elements (small grids, tests only)."""
-        from .greens import love
-
         g = self.geometry
         x = g.ix * g.h
         y = g.iy * g.h

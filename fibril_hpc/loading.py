@@ -86,6 +86,13 @@ class BranchResult:
 class PathDriver:
     """Owns the mutable state of one load path on a :class:`~fibril_hpc.model.Model`."""
 
+    def work_arrays(self) -> dict:
+        """The state and work vectors this driver owns, by name (for read-only use, e.g. memory
+        accounting); arrays shared with the geometry are not included."""
+        shared = {id(a) for a in vars(self.model.geometry).values() if isinstance(a, np.ndarray)}
+        return {k: v for k, v in vars(self).items()
+                if isinstance(v, np.ndarray) and id(v) not in shared}
+
     def __init__(self, model):
         self.model = model
         g = model.geometry

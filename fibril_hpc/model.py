@@ -46,15 +46,15 @@ class Model:
 
 def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesion: float,
                 scaling: Scaling, options: SolverOptions, grid: PillarGrid | None = None,
-                operator: HalfSpace | None = None) -> Model:
+                operator: HalfSpace | None = None, m: int | None = None) -> Model:
     """Build a model on any geometry (pillars, or a test-only indenter shape).
 
     ``operator`` reuses an existing :class:`HalfSpace` (FFT plans, buffers, kernel transform); it
     must have been built on a geometry with the same grid and active elements (heights may differ).
+    ``m`` sets the padded FFT size of a new operator (default: :func:`~fibril_hpc.greens.padded_size`).
     """
     if operator is None:
-        op = HalfSpace(geometry, backend=options.fft_backend, threads=options.threads,
-                       planner=options.fft_planner)
+        op = HalfSpace.from_options(geometry, options, m=m)
     else:
         g0 = operator.geometry
         if not (g0.n == geometry.n and np.array_equal(g0.iy, geometry.iy)
@@ -77,15 +77,17 @@ def scene_scaling(scene: Scene) -> tuple[Scaling, int, tuple]:
     return Scaling(phi=phi_d, work_of_adhesion=scene.work_of_adhesion), s, fp
 
 
-def build_scene_model(scene: Scene, operators: "OperatorCache | None" = None) -> Model:
-    """Discretise a pillar scene and build its model (reusing a cached operator if given)."""
+def build_scene_model(scene: Scene, operators: "OperatorCache | None" = None, *,
+                      m: int | None = None) -> Model:
+    """Discretise a pillar scene and build its model (reusing a cached operator if given;
+    ``m`` sets the padded FFT size of a new operator)."""
     scaling, _, _ = scene_scaling(scene)
     grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter,
                              scene.sigma_tilde * scaling.d_c, scene.seed)
     op = None if operators is None else operators.get(scene, grid.geometry)
     return build_model(grid.geometry, k=scaling.k(scene.k_tilde), adhesion=scene.adhesion,
                        work_of_adhesion=scene.work_of_adhesion, scaling=scaling,
-                       options=scene.solver, grid=grid, operator=op)
+                       options=scene.solver, grid=grid, operator=op, m=m)
 
 
 class OperatorCache:
@@ -107,9 +109,7 @@ class OperatorCache:
         k = self.key(scene)
         op = self._ops.pop(k, None)
         if op is None:
-            o = scene.solver
-            op = HalfSpace(geometry, backend=o.fft_backend, threads=o.threads,
-                           planner=o.fft_planner)
+            op = HalfSpace.from_options(geometry, scene.solver)
         self._ops[k] = op
         while len(self._ops) > self.maxsize:
             self._ops.pop(next(iter(self._ops)))

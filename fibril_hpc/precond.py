@@ -73,6 +73,19 @@ class BlockPreconditioner:
         self._zg = np.zeros((self.ng, m))
         self.updates = 0
 
+    def work_arrays(self) -> dict:
+        """The arrays this preconditioner owns, cached partial inverses included, by name (for
+        read-only use, e.g. memory accounting)."""
+        out = {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray)}
+        for i, (_, inv) in enumerate(self._cache.values()):
+            out[f"cached_inverse_{i}"] = inv
+        return out
+
+    def cache_stats(self) -> dict:
+        """Size of the partial-inverse cache: entries held, the bound, block size, updates."""
+        return {"cached_partial_inverses": len(self._cache), "max_cache": self.max_cache,
+                "block_elements": int(self.m), "updates": self.updates}
+
     def _inverse(self, pattern: np.ndarray):
         key = pattern.tobytes()
         inv = self._cache.get(key)

@@ -57,6 +57,13 @@ class ConstrainedCG:
         self.iterations = 0     # cumulative CG iterations
         self.solves = 0
 
+    def work_arrays(self) -> dict:
+        """The work vectors this solver owns, by name (for read-only use, e.g. memory
+        accounting); arrays shared with the geometry are not included."""
+        shared = {id(a) for a in vars(self.op.geometry).values() if isinstance(a, np.ndarray)}
+        return {k: v for k, v in vars(self).items()
+                if isinstance(v, np.ndarray) and id(v) not in shared}
+
     def solve(self, att, b, x, u, tol: float | None = None, u_valid: bool = False) -> int:
         """Solve A x = b on S = {att != 0} in place; u <- K x on every active element.
 

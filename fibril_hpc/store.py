@@ -14,7 +14,8 @@ Layout of one result group (a file root for ``fibril-run --out``, or a job group
         let_go_d_tilde                                   per pillar (nan: never touched)
 
 Files are written to a temporary name beside the target and renamed into place, so a failure
-leaves nothing behind and never a half-written file.
+leaves nothing behind and never a half-written file. :func:`read_result_file` reads a file back
+into a :class:`~fibril_hpc.results.SimulationResult`.
 """
 
 from __future__ import annotations
@@ -25,12 +26,17 @@ import os
 import tempfile
 
 import numpy as np
+import yaml
 
 from .config import scene_to_yaml
+from .errors import StoreError
 from .files import discard_on_failure
-from .results import SimulationResult, json_safe
+from .results import Curve, PillarState, PreloadResult, SimulationResult, json_safe
+from .scene import scene_from_dict
 
 PROGRAM = "fibril-hpc"
+CURVE_FIELDS = ("d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact")
+STATE_FIELDS = ("force", "elongation", "contact_map", "pressure_map")
 
 
 def _attrs_json(obj) -> str:
@@ -41,7 +47,7 @@ def _write_curve(group, name, curve):
     if curve is None:
         return
     g = group.create_group(name)
-    for key in ("d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact"):
+    for key in CURVE_FIELDS:
         g.create_dataset(key, data=np.asarray(getattr(curve, key)))
 
 
@@ -99,3 +105,83 @@ def write_result_file(path: str, result: SimulationResult) -> None:
         with h5py.File(tmp, "w") as fh:
             write_result(fh, result)
         os.replace(tmp, path)
+
+
+# ------------------------------------------------------------------------------------ reading
+_NONFINITE = {"nan": float("nan"), "inf": float("inf"), "-inf": float("-inf")}
+
+
+def _unsafe(obj):
+    """Undo :func:`~fibril_hpc.results.json_safe`: "nan"/"inf"/"-inf" strings become floats."""
+    if isinstance(obj, dict):
+        return {k: _unsafe(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_unsafe(v) for v in obj]
+    if isinstance(obj, str) and obj in _NONFINITE:
+        return _NONFINITE[obj]
+    return obj
+
+
+def _text(v):
+    return v.decode() if isinstance(v, bytes) else v
+
+
+def _scalar(v):
+    v = _text(v)
+    return v.item() if isinstance(v, np.generic) else v
+
+
+def _read_curve(group, name):
+    if name not in group:
+        return None
+    g = group[name]
+    return Curve(*(g[k][()] for k in CURVE_FIELDS))
+
+
+def _read_state(group, name):
+    if name not in group:
+        return None
+    g = group[name]
+    return PillarState(*(g[k][()] for k in STATE_FIELDS), d_tilde=float(g.attrs["d_tilde"]))
+
+
+def read_result(group) -> SimulationResult:
+    """Read one simulation written by :func:`write_result` from an h5py group."""
+    a = group.attrs
+    if _text(a.get("program")) != PROGRAM:
+        raise StoreError(f"{group.file.filename}: not a fibril-run result file")
+    res = SimulationResult(
+        scene=scene_from_dict(yaml.safe_load(_text(a["scene_yaml"]))),
+        status=_text(a["status"]), message=_text(a["message"]),
+        **{k: _unsafe(json.loads(_text(a[k])))
+           for k in ("discretisation", "stats", "versions", "definitions")})
+    if "pillars" in group:
+        res.xi = group["pillars"]["xi"][()]
+        res.zeta_tilde = group["pillars"]["zeta_tilde"][()]
+    pre = group["preloads"]
+    for i in sorted(pre, key=int):
+        g = pre[i]
+        r = PreloadResult(**{k: _scalar(v) for k, v in g.attrs.items()})
+        r.loading, r.unloading = _read_curve(g, "loading"), _read_curve(g, "unloading")
+        r.at_preload, r.at_pulloff = _read_state(g, "at_preload"), _read_state(g, "at_pulloff")
+        if "let_go_d_tilde" in g:
+            r.let_go_d_tilde = g["let_go_d_tilde"][()]
+        res.results.append(r)
+    return res
+
+
+def read_result_file(path: str) -> SimulationResult:
+    """Read a file written by ``fibril-run --out`` (or :func:`write_result_file`).
+
+    Examples
+    --------
+    >>> r = read_result_file("out.h5")                  # doctest: +SKIP
+    >>> r.main.F_A, r.main.unloading.F_tilde            # doctest: +SKIP
+    """
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as fh:
+            return read_result(fh)
+    except OSError as exc:
+        raise StoreError(f"cannot open {path} as HDF5: {exc}") from None

@@ -9,13 +9,14 @@ import sys
 import pytest
 
 from fibril_hpc import accuracy
+from fibril_hpc.cli.accuracy import main as accuracy_main
 from fibril_hpc.presets import PRESETS
 
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
     out = tmp_path_factory.mktemp("acc") / "study"
-    assert accuracy.main(["--quick", "--out", str(out)]) == 0
+    assert accuracy_main(["--quick", "--out", str(out)]) == 0
     return out
 
 
@@ -81,9 +82,9 @@ def test_presets_in_the_study_are_the_presets(quick):
 
 def test_resume_and_report_only_run_nothing_new(quick, tmp_path):
     before = (quick / "accuracy.csv").read_text()
-    assert accuracy.main(["--quick", "--out", str(quick), "--resume"]) == 0
+    assert accuracy_main(["--quick", "--out", str(quick), "--resume"]) == 0
     assert (quick / "accuracy.csv").read_text() == before
-    assert accuracy.main(["--out", str(quick), "--report-only"]) == 0
+    assert accuracy_main(["--out", str(quick), "--report-only"]) == 0
 
 
 def test_pareto_front():
@@ -98,7 +99,7 @@ def test_pareto_front():
 ])
 def test_bad_arguments_one_line_exit_2_nothing_written(tmp_path, args, field):
     out = tmp_path / "never"
-    proc = subprocess.run([sys.executable, "-m", "fibril_hpc.accuracy", "--out", str(out), *args],
+    proc = subprocess.run([sys.executable, "-m", "fibril_hpc.cli.accuracy", "--out", str(out), *args],
                           capture_output=True, text=True)
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
@@ -107,6 +108,6 @@ def test_bad_arguments_one_line_exit_2_nothing_written(tmp_path, args, field):
 
 
 def test_missing_parent_folder(tmp_path, capsys):
-    assert accuracy.main(["--quick", "--out", str(tmp_path / "no" / "dir")]) == 2
+    assert accuracy_main(["--quick", "--out", str(tmp_path / "no" / "dir")]) == 2
     assert "--out" in capsys.readouterr().err
     assert not (tmp_path / "no").exists()

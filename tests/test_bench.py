@@ -1,4 +1,4 @@
-"""fibril-bench: the quick mode produces the table and the JSON (no timing assertions).
+"""The developer benchmark (python -m benchmarks.fibril_bench): the quick mode produces the table and the JSON (no timing assertions).
 
 The peer comparison checks *answers* (same total force and contact set as fibril on the peers'
 own problem) when ContactMechanics / tamaas are installed, and says "skipped" when they are not.
@@ -13,8 +13,10 @@ import sys
 import numpy as np
 import pytest
 
-from fibril_hpc import bench
+from benchmarks.fibril_bench import cli, memory, table, timing
 from fibril_hpc.grid import pitch_elements
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 @pytest.fixture(scope="module")
@@ -23,8 +25,9 @@ def quick(tmp_path_factory):
     env = dict(os.environ)
     env.setdefault("NUMBA_CACHE_DIR",
                    os.path.join(os.path.dirname(__file__), "..", ".numba_cache"))
-    proc = subprocess.run([sys.executable, "-m", "fibril_hpc.bench", "--quick", "--out", str(out)],
-                          capture_output=True, text=True, env=env, timeout=900)
+    proc = subprocess.run([sys.executable, "-m", "benchmarks.fibril_bench", "--quick", "--out",
+                           str(out)], capture_output=True, text=True, env=env, timeout=900,
+                          cwd=ROOT)
     assert proc.returncode == 0, proc.stderr[-3000:]
     files = sorted(out.glob("bench-*-quick.json"))
     assert len(files) == 1, list(out.iterdir())
@@ -89,11 +92,11 @@ def test_peers_same_answer_or_skipped(quick):
 
 def test_epd_for_pitch_hits_the_pitch():
     for pitch in (7, 9, 15, 17, 29, 35):
-        assert pitch_elements(bench.PHI, bench.epd_for_pitch(pitch)) == pitch
+        assert pitch_elements(timing.PHI, timing.epd_for_pitch(pitch)) == pitch
 
 
 def test_floor_pair_is_a_real_fft_pair():
-    f = bench.floor_pair(12, "estimate", runs=1)
+    f = timing.floor_pair(12, "estimate", runs=1)
     assert f["m"] == 12 and f["median_s"] > 0 and f["planner"] == "FFTW_ESTIMATE"
 
 
@@ -101,10 +104,10 @@ def test_memory_arrays_counts_what_the_solve_holds():
     from fibril_hpc.loading import PathDriver
     from fibril_hpc.model import build_scene_model
 
-    model = build_scene_model(bench._scene(2, 7))
+    model = build_scene_model(timing.bench_scene(2, 7))
     drv = PathDriver(model)
     drv.solve_at(1.0 * model.scaling.d_c)
-    a = bench.memory_arrays(model, drv)
+    a = memory.memory_arrays(model, drv)
     m, r = model.operator.m, len(model.operator.pair.rows)
     w = m // 2 + 1
     assert a["fft_buffers"]["bytes"] == 2 * 8 * r * m + 2 * 16 * r * w + 2 * 16 * m * w
@@ -116,20 +119,27 @@ def test_memory_arrays_counts_what_the_solve_holds():
 
 def test_table_formatting_of_a_failed_memory_row():
     res = {"meta": {"fftw_planner": "FFTW_ESTIMATE"}, "memory": [{"pitch": 9, "error": ["boom"]}]}
-    rows = bench.table_rows(res)
+    rows = table.table_rows(res)
     assert rows == [("memory", "pitch 9", "failed", "['boom']")]
-    assert bench.format_table(rows).splitlines()[0].startswith("section")
+    assert table.format_table(rows).splitlines()[0].startswith("section")
 
 
 def test_unknown_section_is_a_usage_error(tmp_path):
-    proc = subprocess.run([sys.executable, "-m", "fibril_hpc.bench", "--quick", "--only", "nope",
-                           "--out", str(tmp_path), "--no-pin"],
-                          capture_output=True, text=True, timeout=300)
+    proc = subprocess.run([sys.executable, "-m", "benchmarks.fibril_bench", "--quick", "--only",
+                           "nope", "--out", str(tmp_path), "--no-pin"],
+                          capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert proc.returncode != 0 and "unknown section 'nope'" in proc.stderr
     assert not list(tmp_path.iterdir())
 
 
 def test_time_call_reports_a_median():
-    t = bench.time_call(lambda: np.sum(np.ones(10)), runs=3, min_s=1e-4)
+    t = timing.time_call(lambda: np.sum(np.ones(10)), runs=3, min_s=1e-4)
     assert t["wall_min_s"] <= t["wall_median_s"] and len(t["wall_samples_s"]) == 3
     assert t["median_s"] == t["cpu_median_s"] and len(t["cpu_samples_s"]) == 3
+    w = timing.time_call(lambda: None, runs=2, min_s=1e-4, clock="wall")
+    assert w["median_s"] == w["wall_median_s"]
+
+
+def test_every_section_is_in_the_dispatch_table():
+    assert set(cli.DEFAULT_SECTIONS) < set(cli.SECTIONS) and "opts" in cli.SECTIONS
+    assert all(callable(f) for f in cli.SECTIONS.values())

@@ -61,3 +61,27 @@ def test_point_loads_equal_the_fft_product(geom):
     assert op.add_point_loads(u, idx, vals)
     np.testing.assert_allclose(u, ref, rtol=1e-11, atol=1e-14 * np.abs(ref).max())
     assert not op.add_point_loads(u, np.arange(op.max_direct + 1), np.ones(op.max_direct + 1))
+
+
+def test_injected_padded_size_gives_the_same_product(geom):
+    """Any padded size m >= 2n-1 is the same linear operator; below it wrap-around would alias."""
+    p = np.random.default_rng(7).standard_normal(geom.n_active)
+    ref = HalfSpace(geom, threads=1)
+    u0, u1 = np.empty_like(p), np.empty_like(p)
+    ref.apply(p, u0)
+    big = HalfSpace(geom, threads=1, m=ref.m + 6)
+    assert big.m == ref.m + 6
+    big.apply(p, u1)
+    np.testing.assert_allclose(u1, u0, rtol=1e-11, atol=1e-13 * np.abs(u0).max())
+    with pytest.raises(ValueError, match="2n-1"):
+        HalfSpace(geom, m=2 * geom.n - 2)
+
+
+def test_work_arrays_are_the_owned_buffers(geom):
+    op = HalfSpace(geom, threads=1)
+    bufs = op.pair.work_arrays()
+    assert "rows" not in bufs and all(isinstance(a, np.ndarray) for a in bufs.values())
+    assert len(bufs) == 6 and bufs["real_in"] is op.pair.real_in
+    assert set(op.work_arrays()) == {"kernel_hat", "index"}
+    op.table
+    assert op.work_arrays()["table"] is op.table
