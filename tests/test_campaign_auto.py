@@ -15,6 +15,7 @@ from fibril_hpc.campaign.planner import FixedPlanner
 from fibril_hpc.cli.campaign import main
 
 AUTO = dict(TINY, k_tilde=[1, 0.01], sigma_tilde=[0.3], seeds=2, output="auto.h5",
+            scene=dict(TINY["scene"], n_side=5),
             F_P={"auto": {"start": [0.002, 0.01, 0.05, 0.25, 1.0], "rounds": 5}})
 
 
@@ -38,22 +39,31 @@ def test_auto_preloads_bracket_the_kink(auto_run):
     spec = load_spec(grid)
     paths = _paths(path)
     assert set(paths) == set(spec.paths())
+    added = 0
     for p, jobs in paths.items():
         pre = sorted(j["preload"] for j in jobs)
         assert all(j["status"] == "done" for j in jobs)
-        assert set(spec.auto.start) <= set(pre) and len(pre) > len(spec.auto.start), p
-        f = fit.fit_law([j["F_P"] for j in jobs], [j["F_A"] for j in jobs], "min")
-        below = [j["preload"] for j in jobs if j["F_P"] < f.kink]
-        above = [j["preload"] for j in jobs if j["F_P"] >= f.kink]
+        assert set(spec.auto.start) <= set(pre), p
+        f = fit.fit_law([j["F_P"] for j in jobs], [j["F_A"] for j in jobs], fit.DEFAULT_LAW)
+        js = sorted(jobs, key=lambda j: j["preload"])
+        below = [j["preload"] for j in js if j["F_P"] < f.kink]
+        above = [j["preload"] for j in js if j["F_P"] >= f.kink]
+        floor = js[0]["F_A"] >= auto.FLOOR_RATIO * js[1]["F_A"]
+        # it stopped on its criteria, not on the round limit: the kink is bracketed to within
+        # `bracket`, enough preloads above it, and enough below it unless F_A hit its floor
         assert len(above) >= spec.auto.above and below, (p, pre, f)
         assert min(above) / max(below) <= spec.auto.bracket * 1.01, (p, pre, f)
+        assert len(below) >= spec.auto.below or floor, (p, pre, f)
+        added += len(pre) - len(spec.auto.start)
         # every record is an ordinary job: the key of its single-preload scene
         for j in jobs:
             task = spec.auto_task(p, [j["preload"]])
             assert task.jobs[0].key == j["key"]
         # the choice is a function of the records: replaying them asks for nothing more
         res = {j["preload"]: (j["F_P"], j["F_A"]) for j in jobs}
-        assert auto.path_todo(spec.auto, res)[0] == []
+        todo, rounds = auto.path_todo(spec.auto, res)
+        assert todo == [] and rounds < spec.auto.rounds
+    assert added >= len(paths)          # it placed preloads of its own
 
 
 def test_auto_resume_after_sigkill_same_preloads_and_records(auto_run, tmp_path):

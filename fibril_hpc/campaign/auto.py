@@ -4,8 +4,8 @@ F~_A(F~_P) rises linearly (F~_A = c F~_P) and then saturates; where it bends dep
 sigma~ by orders of magnitude, so a fixed preload list either wastes unloadings on the plateau or
 misses the linear stage. With ``F_P: auto`` a loading path is run in *rounds*. Round 0 runs the
 ``start`` preloads (one loading path, one unloading each). After every round the path's points
-are fitted with the hard-kink law F~_A = min(c F~_P, plateau) (:func:`.fit.fit_law`) and the next
-round's preloads are chosen:
+are fitted with the report's law (:data:`.fit.DEFAULT_LAW`, :func:`.fit.fit_law`; the kink is
+plateau / c) and the next round's preloads are chosen:
 
 * fewer than ``below`` preloads below the kink: bisect (in log F~_P) the gap between the largest
   preload below the kink and the smallest above it, and extend the list downwards (the smallest
@@ -110,13 +110,13 @@ def next_preloads(a: AutoPreloads, tried, results) -> list:
     ``tried``: every preload of the rounds so far; ``results``: {preload: (F_P, F_A)} of its done
     jobs (failed ones absent). Returns the new preloads, ascending (empty: the path is finished).
     """
-    from .fit import fit_law
+    from .fit import DEFAULT_LAW, fit_law
 
     pts = sorted((p, fp, fa) for p, (fp, fa) in results.items()
                  if p in tried and fp > 0 and fa > 0 and math.isfinite(fa))
     if len(pts) < 2:
         return []
-    f = fit_law([fp for _, fp, _ in pts], [fa for _, _, fa in pts], "min")
+    f = fit_law([fp for _, fp, _ in pts], [fa for _, _, fa in pts], DEFAULT_LAW)
     if not math.isfinite(f.kink):
         return []
     below = [p for p, fp, _ in pts if fp < f.kink]

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 LAWS = ("min", "tanh")
-DEFAULT_LAW = "min"
+DEFAULT_LAW = "tanh"
 N_BOOT = 400
 #: two-sided 95 % Student-t quantiles for 1..30 degrees of freedom (larger: 1.96)
 _T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179,

@@ -50,9 +50,9 @@ def _parser() -> Parser:
     rp = sub.add_parser("report", help="plots and the alpha, beta, sigma_c table")
     rp.add_argument("file")
     rp.add_argument("--out", required=True, metavar="DIR")
-    rp.add_argument("--law", default="min", choices=("min", "tanh"),
-                    help="law fitted per (k~, sigma~): min (F~_A = min(c F~_P, plateau), the "
-                         "default) or tanh (plateau tanh(c F~_P / plateau)); README, 'Report'")
+    rp.add_argument("--law", default="tanh", choices=("tanh", "min"),
+                    help="law fitted per (k~, sigma~): tanh (F~_A = plateau tanh(c F~_P / "
+                         "plateau), the default) or min (min(c F~_P, plateau)); README, 'Report'")
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
                     help="bootstrap resamples over seeds for the intervals (default 400)")
     e = sub.add_parser("export", help="one row per job: CSV and/or Parquet")
