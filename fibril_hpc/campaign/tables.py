@@ -25,6 +25,13 @@ def _ci_md(ci, fmt=".3g") -> str:
     return f"[{_md(lo, fmt)}, {_md(hi, fmt) if math.isfinite(hi) else '∞'}]"
 
 
+def _val_ci(v, ci, fmt=".4g") -> str:
+    """'value [lo, hi]'; an undefined value is one em dash."""
+    if v is None or not math.isfinite(v):
+        return "—"
+    return f"{_md(v, fmt)} {_ci_md(ci)}"
+
+
 def _csv(rows) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
@@ -47,8 +54,8 @@ def alpha_beta_table(fits) -> tuple[str, str]:
                      _num(a.sigma_c_ci[0]), _num(a.sigma_c_ci[1]), str(a.n_sigma),
                      " ".join(f"{s:g}" for s in a.sigmas), _num(a.rms_residual),
                      _num(a.chi2_red), a.note])
-        md.append(f"| {k:g} | {_md(a.alpha)} {_ci_md(a.alpha_ci)} | {_md(a.beta)} "
-                  f"{_ci_md(a.beta_ci)} | {_md(a.sigma_c)} {_ci_md(a.sigma_c_ci)} | {a.n_sigma} "
+        md.append(f"| {k:g} | {_val_ci(a.alpha, a.alpha_ci)} | {_val_ci(a.beta, a.beta_ci)} | "
+                  f"{_val_ci(a.sigma_c, a.sigma_c_ci)} | {a.n_sigma} "
                   f"| {_md(a.rms_residual, '.3g')} | {a.note} |")
     return _csv(rows), "\n".join(md) + "\n"
 
@@ -73,9 +80,9 @@ def groups_table(fits) -> tuple[str, str]:
                          str(g.n_levels), str(g.n_below), str(g.n_above), str(g.resolved).lower(),
                          str(g.plateau_confirmed).lower(), _num(g.rms_log), other, g.ci_method,
                          g.note])
-            md.append(f"| {k:g} | {g.sigma_tilde:g} | {_md(g.c)} {_ci_md(g.c_ci)} | "
-                      f"{_md(g.plateau)} {_ci_md(g.plateau_ci)} | {_md(g.kink, '.3g')} "
-                      f"{_ci_md(g.kink_ci)} | {g.n_below} / {g.n_above} | "
+            md.append(f"| {k:g} | {g.sigma_tilde:g} | {_val_ci(g.c, g.c_ci)} | "
+                      f"{_val_ci(g.plateau, g.plateau_ci)} | {_val_ci(g.kink, g.kink_ci, '.3g')} "
+                      f"| {g.n_below} / {g.n_above} | "
                       f"{'yes' if g.resolved else '**unresolved**'} | {_md(g.rms_log, '.3g')} "
                       f"({other}) | {g.note} |")
     return _csv(rows), "\n".join(md) + "\n"
