@@ -127,3 +127,13 @@ def test_next_preloads_rules():
     res = {p: (p, 0.5 * p) for p in (0.01, 0.1, 1.0)}
     assert auto.next_preloads(a, [0.01, 0.1, 1.0], res) == [4.0, 16.0]
     assert math.isclose(auto.path_todo(a, {})[0][0], 0.01)
+
+
+def test_shipped_grids_load():
+    here = os.path.join(os.path.dirname(__file__), "..", "campaigns")
+    specs = {n: load_spec(os.path.join(here, n)) for n in os.listdir(here) if n.endswith(".yaml")}
+    assert {"demo.yaml", "paper.yaml", "report_example.yaml"} <= set(specs)
+    paper = specs["paper.yaml"]
+    # soft pillars bend near F_P = 0.01 (README, "Report"): the paper grid starts far below
+    assert paper.auto is not None and paper.auto.start[0] <= 0.001 and paper.auto.min <= 1e-4
+    assert specs["report_example.yaml"].campaign_hash.startswith("062ebf3df2b0")
