@@ -1,13 +1,17 @@
-"""Fits of a campaign: the "linear, then plateau" law per (k~, sigma~) and c(sigma~) = alpha/sigma~ - beta.
+"""Fits of a campaign: the "linear, then plateau" law per (k~, sigma~) and
+c(sigma~) = alpha/sigma~ - beta.
 
 Pure functions on plain numbers (no I/O, no plotting); :mod:`.report` orchestrates them.
 
 **Law per (k~, sigma~).** F~_A(F~_P) rises linearly, F~_A = c F~_P, and then saturates at a
-plateau F~_P,A. Two laws with the same two parameters, the plateau P and the kink x_k = P / c
-(where the linear stage meets the plateau):
+plateau P. Two laws with the same two parameters, the plateau P and the kink x_k = P / c
+(where the linear stage would meet the plateau):
 
-* ``"min"`` (a hard kink): F~_A = min(c F~_P, P);
-* ``"tanh"`` (a smooth saturation): F~_A = P tanh(c F~_P / P).
+* ``"tanh"`` (a smooth saturation, the default): F~_A = P tanh(c F~_P / P);
+* ``"min"`` (a hard kink): F~_A = min(c F~_P, P).
+
+On an 18 x 18 campaign (README, "Report") tanh fitted every (k~, sigma~) at least as well as the
+hard kink: F~_A bends over gradually, across about a decade of F~_P.
 
 Both are fitted to every done job of the (k~, sigma~) (all seeds, all preloads) by least squares
 in log F~_A (relative residuals: F~_A spans decades between the smallest preloads and the plateau,
@@ -20,8 +24,9 @@ deterministic, no starting guess, no SciPy.
 realisations; ``n_boot`` resamples with replacement, a fixed random seed); the 95 % interval is
 value x/÷ exp(t se), se the standard deviation of the log of the replicates times
 sqrt(n/(n-1)), t the Student-t quantile for n - 1 degrees of freedom (n seeds: with three seeds
-the percentile interval of the replicates would be far too narrow). With one seed: the fit's covariance (Gauss-Newton at the optimum, residual variance
-with n - 2 degrees of freedom, Student-t quantile), as intervals in log (so they stay positive).
+the percentile interval of the replicates would be far too narrow). With one seed: the fit's
+covariance (Gauss-Newton at the optimum, residual variance with n - 2 degrees of freedom,
+Student-t quantile), as intervals in log (so they stay positive).
 
 **Resolved.** The linear stage is *resolved* when at least two preload levels (seed-mean F~_P)
 lie below the kink; otherwise the (k~, sigma~) is *unresolved*: its c is a bound, not a
