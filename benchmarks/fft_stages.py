@@ -12,13 +12,17 @@ from benchmarks.fibril_bench import timing
 from fibril_hpc.model import build_scene_model
 for pitch in [int(x) for x in sys.argv[1:]]:
     model = build_scene_model(timing.bench_scene(18, pitch))
-    op = model.operator; pr = op.pair; kh = op.kernel_hat
+    op = model.operator
+    pr = op.pair
+    kh = op.kernel_hat
     pr.real_in[...] = np.random.default_rng(0).standard_normal(pr.real_in.shape)
     st = pr.stages(kh)
     tot = 0
     res = {}
     for k, f in st.items():
         t = timing.time_call(f, 5, 0.05)["cpu_median_s"] * 1e3
-        res[k] = t; tot += t
+        res[k] = t
+        tot += t
     fl = timing.floor_pair(op.m, "estimate", 5)["cpu_median_s"] * 1e3
-    print(f"m={op.m} R={len(pr.rows)} floor {fl:.2f} ms; stages sum {tot:.2f} ms: " + ", ".join(f"{k} {v:.2f}" for k, v in res.items()))
+    stages = ", ".join(f"{k} {v:.2f}" for k, v in res.items())
+    print(f"m={op.m} R={len(pr.rows)} floor {fl:.2f} ms; stages sum {tot:.2f} ms: {stages}")

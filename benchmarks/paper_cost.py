@@ -4,7 +4,8 @@
     python benchmarks/paper_cost.py --k 10,0.1,0.001 --sigma 0.07,0.384,2.1 --json cost.json
 
 Each sampled (k~, sigma~, seed) runs exactly as in the campaign: one ``simulate`` call with all
-the grid's preloads (with ``F_P: auto``, every round the campaign would run), ``solver.fft_threads = 1`` (one core), one OperatorCache. The total is the
+the grid's preloads (with ``F_P: auto``, every round the campaign would run),
+``solver.fft_threads = 1`` (one core), one OperatorCache. The total is the
 sum over every (k~, sigma~) of the grid of the wall time of the nearest sampled point (in
 log k~, log sigma~), times the number of seeds. Costs are CPU seconds of the (single-threaded)
 process, so that a busy shared machine does not inflate them (wall times are printed too);
@@ -83,7 +84,8 @@ def main(argv=None) -> int:
             return 2
     pair_s, m, epp = fft_pair_seconds(spec.base)
     print(f"grid {spec.base.n_side}^2 pillars, FFT {m}^2, {epp} elements/pillar, "
-          f"{'F_P auto' if spec.auto else len(spec.preloads)} preloads per path; {pair_s * 1e3:.2f} ms per FFT pair (1 thread); "
+          f"{'F_P auto' if spec.auto else len(spec.preloads)} preloads per path; "
+          f"{pair_s * 1e3:.2f} ms per FFT pair (1 thread); "
           f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs", flush=True)
     ops = OperatorCache()
     samples = []
@@ -121,7 +123,8 @@ def main(argv=None) -> int:
            "pairs_per_pillar_element": sum(per_pillar) / len(per_pillar),
            "fibril_hpc_commit": os.popen(f"git -C {HERE} rev-parse --short HEAD 2>/dev/null")
            .read().strip()}
-    print(f"estimate: {out['core_hours']:.0f} core-hours{' (at least: a sample hit the cap)' if capped else ''} "
+    cap_note = " (at least: a sample hit the cap)" if capped else ""
+    print(f"estimate: {out['core_hours']:.0f} core-hours{cap_note} "
           f"for {len(spec.jobs) or 'auto'} jobs in {n_paths} loading paths "
           f"(mean sampled path {out['mean_path_cpu_s']:.0f} s CPU); with N ranks x N/(N-1) for the master; "
           f"FFT pairs per pillar per sqrt(element) {out['pairs_per_pillar_element']:.0f}")

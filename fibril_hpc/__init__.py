@@ -5,6 +5,8 @@ Public API::
     from fibril_hpc import Scene, SolverOptions, simulate
     result = simulate(Scene(k_tilde=0.01, sigma_tilde=0.5, F_P=4.0, seed=0))
     result.main.F_A, result.main.unloading.F_tilde
+    read_result_file("curve.h5")          # a file written by fibril-run --out
+    load_campaign("results.h5")           # a campaign file (fibril-campaign)
 """
 
 from ._version import __version__
@@ -12,6 +14,8 @@ from .api import simulate
 from .campaign.data import load_campaign
 from .errors import ConfigError, FibrilError, NoConvergenceError, StoreError
 from .scene import Scene, SolverOptions, scene_from_dict
+from .store import read_result_file
 
 __all__ = ["Scene", "SolverOptions", "scene_from_dict", "simulate", "ConfigError",
-           "FibrilError", "NoConvergenceError", "StoreError", "load_campaign", "__version__"]
+           "FibrilError", "NoConvergenceError", "StoreError", "load_campaign", "read_result_file",
+           "__version__"]

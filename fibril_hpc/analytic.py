@@ -1,4 +1,4 @@
-"""Closed-form references (physics.md §6). Units: any consistent set; E* = contact modulus,
+"""Closed-form references (docs/model.md §8). Units: any consistent set; E* = contact modulus,
 dgamma = work of adhesion. Signs: F > 0 compression, d > 0 indentation."""
 
 from __future__ import annotations

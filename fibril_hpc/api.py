@@ -52,6 +52,7 @@ def _pillar_state(model: Model, d, p, att) -> PillarState:
 
 
 def discretisation_info(model: Model) -> dict:
+    """Resolution facts of a built model (grid, FFT size, pillar footprint), stored with results."""
     g = model.geometry
     grid = model.grid
     info = {

@@ -49,6 +49,7 @@ def load_scene(path: str) -> Scene:
 
 
 def builtin_scene(name: str) -> Scene:
+    """A built-in scene by name (``fibril-run --builtin``)."""
     if name not in BUILTIN_SCENES:
         raise ConfigError("--builtin", name, "one of " + ", ".join(BUILTIN_SCENES))
     return scene_from_dict(dict(BUILTIN_SCENES[name]))

@@ -5,7 +5,7 @@ about 45 % of the N rows of a brush at phi = 0.16, and the padding doubles m), a
 of the output are read. The ``pyfftw`` backend therefore prunes the row stage of the 2-D real
 transform: r2c along x on the R active rows only, c2c along y on every column, multiply by the
 (real) kernel transform, inverse c2c along y, c2r along x on the R active rows only. That is about
-half of the full 2-D work at m = 625 (measured 6.3 ms vs 10.8 ms per pair, one thread).
+half of the full 2-D work (measurements: ``benchmarks/NOTES.md``).
 
 The ``numpy`` backend is the float64 reference: the plain full ``rfft2``/``irfft2`` of the padded
 array. Both are unnormalised (callers fold 1/(m*m) into the kernel transform) and count the pairs

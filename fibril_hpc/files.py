@@ -46,6 +46,15 @@ def discard_on_failure(tmp: str, path: str):
         raise
 
 
+def check_output_folder(path: str, field: str = "--out") -> None:
+    """Raise a :class:`ConfigError` naming ``field`` unless ``path`` is a folder, or can be
+    created as one (its parent exists and it is not a file). Nothing is created here."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise ConfigError(field, path, "a folder (it is a file)")
+    if not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+        raise ConfigError(field, path, "a folder whose parent exists")
+
+
 def fsync_dir(folder: str) -> None:
     """Make a rename inside ``folder`` durable (best effort)."""
     try:
@@ -60,4 +69,4 @@ def fsync_dir(folder: str) -> None:
         os.close(fd)
 
 
-__all__ = ["check_writable", "discard_on_failure", "fsync_dir"]
+__all__ = ["check_writable", "check_output_folder", "discard_on_failure", "fsync_dir"]

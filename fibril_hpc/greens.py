@@ -1,4 +1,4 @@
-"""Love's influence coefficients and the transformed, zero-padded kernel (physics.md §3).
+"""Love's influence coefficients and the transformed, zero-padded kernel (docs/model.md §3).
 
 Pure functions: no plans, no state. The displacement at the centre of an element at offset
 (X, Y) from a square element of side h carrying unit uniform pressure is (Love 1929)
@@ -73,9 +73,8 @@ def _fft_cost(m: int) -> float:
 
 def padded_size(n: int) -> int:
     """FFT side of the non-periodic product on n x n: the 7-smooth size >= 2n - 1 (at most 15 %
-    above it) that the cost model ranks cheapest. Odd and 5^k-heavy sizes are avoided: at the
-    default brush (2n - 1 = 611), 640 instead of 625 made a CG iteration 1.4-1.6x faster
-    (measured by fibril-bench)."""
+    above it) that the cost model ranks cheapest. Odd and 5^k-heavy sizes are avoided (slow real
+    transforms; measurements in ``benchmarks/NOTES.md``). See ``docs/model.md`` §3."""
     need = 2 * n - 1
     cands = []
     p2 = 1

@@ -1,4 +1,4 @@
-"""Element grid, pillar footprints, element-to-pillar labels and pillar heights (physics.md §1, §3).
+"""Element grid, pillar footprints, element-to-pillar labels and pillar heights (docs/model.md §1, §3).
 
 Footprint convention (fixed, documented, stored): the pitch s is an *odd* whole number of elements,
 so every pillar centre sits on an element centre, at ((I + 1/2) s, (J + 1/2) s). An element
@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ConfigError
+from .scaling import Scaling
 
 #: Name of the bit generator, stored with every result.
 RNG_NAME = "numpy.random.PCG64 + Generator.standard_normal, row-major pillar order"
@@ -53,14 +54,17 @@ class Geometry:
 
     @property
     def n_groups(self) -> int:
+        """Number of groups (pillars)."""
         return len(self.starts) - 1
 
     @property
     def n_active(self) -> int:
+        """Number of elements that can touch."""
         return len(self.iy)
 
     @property
     def labels(self) -> np.ndarray:
+        """Group index of every active element."""
         return np.repeat(np.arange(self.n_groups), np.diff(self.starts))
 
     def to_map(self, values, fill=0.0) -> np.ndarray:
@@ -84,20 +88,18 @@ class PillarGrid:
 
     @property
     def n(self) -> int:
+        """Grid side (elements)."""
         return self.geometry.n
 
     @property
     def h(self) -> float:
+        """Element side (internal units)."""
         return self.geometry.h
 
     @property
     def elements_per_pillar(self) -> int:
+        """Elements in one pillar's footprint."""
         return len(self.footprint)
-
-    @property
-    def phi_discrete(self) -> float:
-        n_p = self.n_side**2
-        return n_p * self.elements_per_pillar * self.h**2 / (self.n * self.h) ** 2
 
     @property
     def r_eq(self) -> float:
@@ -122,6 +124,57 @@ def footprint(pitch: int, phi: float) -> tuple:
     return out
 
 
+@dataclass(frozen=True)
+class Lattice:
+    """The lattice step of a brush: pitch and footprint in elements, and what follows from them.
+
+    The one place where a resolution target becomes a grid (docs/model.md §3): the scaling
+    (:meth:`scaling`), the pillar grid (:func:`build_pillar_grid`) and the campaign's cost
+    estimate all build on it.
+
+    Attributes
+    ----------
+    n_side : int
+        Pillars per side.
+    phi : float
+        Nominal filling ratio.
+    pitch : int
+        Elements per pitch s (odd).
+    footprint : tuple
+        ((di, dj), ...) offsets of one pillar's elements from its centre element.
+    """
+
+    n_side: int
+    phi: float
+    pitch: int
+    footprint: tuple
+
+    @classmethod
+    def of(cls, n_side: int, phi: float, elements_per_diameter: float) -> Lattice:
+        """The lattice a resolution target gives (pitch: the nearest odd whole number)."""
+        s = pitch_elements(phi, elements_per_diameter)
+        return cls(n_side=n_side, phi=phi, pitch=s, footprint=footprint(s, phi))
+
+    @property
+    def elements_per_pillar(self) -> int:
+        """Elements in one pillar's footprint."""
+        return len(self.footprint)
+
+    @property
+    def phi_discrete(self) -> float:
+        """Discrete filling ratio: pillar elements / pitch**2."""
+        return self.elements_per_pillar / float(self.pitch * self.pitch)
+
+    @property
+    def grid_side(self) -> int:
+        """N = n_side * pitch elements per side."""
+        return self.n_side * self.pitch
+
+    def scaling(self, work_of_adhesion: float = 1.0) -> Scaling:
+        """The normalisation of this lattice (with the discrete filling ratio)."""
+        return Scaling(phi=self.phi_discrete, work_of_adhesion=work_of_adhesion)
+
+
 def pillar_heights(n_pillars: int, seed: int) -> np.ndarray:
     """Standard-normal draws of the pillars, in row-major pillar order (see module docstring)."""
     rng = np.random.Generator(np.random.PCG64(seed))
@@ -139,13 +192,12 @@ def build_pillar_grid(n_side: int, phi: float, elements_per_diameter: float, sig
     max_elements : int
         Largest grid side accepted (memory guard).
     """
-    s = pitch_elements(phi, elements_per_diameter)
-    n = n_side * s
+    lat = Lattice.of(n_side, phi, elements_per_diameter)
+    s, n, fp = lat.pitch, lat.grid_side, lat.footprint
     if n > max_elements:
         raise ConfigError("elements_per_diameter", elements_per_diameter,
                           f"a resolution giving at most {max_elements} elements per side "
                           f"(this one gives {n} for n_side={n_side})")
-    fp = footprint(s, phi)
     h = 1.0 / n
     half = (s - 1) // 2
     di = np.array([o[0] for o in fp], dtype=np.int64)

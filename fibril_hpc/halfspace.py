@@ -52,8 +52,7 @@ class HalfSpace:
     @classmethod
     def from_options(cls, geometry, options, *, m: int | None = None) -> HalfSpace:
         """The operator a :class:`~fibril_hpc.scene.SolverOptions` asks for."""
-        return cls(geometry, backend=options.fft_backend, threads=options.threads,
-                   planner=options.fft_planner, m=m)
+        return cls(geometry, **options.operator_settings(), m=m)
 
     def work_arrays(self) -> dict:
         """The arrays this operator owns besides its FFT pair's (see ``pair.work_arrays()``)."""
@@ -85,6 +84,7 @@ class HalfSpace:
 
     @property
     def n_pairs(self) -> int:
+        """FFT pairs executed so far (the operator products)."""
         return self.pair.n_pairs
 
     def apply(self, p: np.ndarray, out: np.ndarray) -> np.ndarray:

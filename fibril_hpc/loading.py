@@ -1,6 +1,6 @@
 """Displacement-controlled loading to the preload(s), then pull-off until complete detachment.
 
-The driver is event-driven (physics.md §5): on a fixed attached set S the solution is affine in the
+The driver is event-driven (docs/model.md §6): on a fixed attached set S the solution is affine in the
 plate displacement d, p(d) = p + (d - d0) p1 with A p1 = 1_S, and so are the tip forces and the
 gaps of free elements. From a consistent state the driver therefore
 
@@ -45,12 +45,14 @@ class CurveRecorder:
     n_pillars: list = field(default_factory=list)
 
     def add(self, d, F, n_att, n_pil):
+        """Append one point."""
         self.d.append(d)
         self.F.append(F)
         self.n_attached.append(n_att)
         self.n_pillars.append(n_pil)
 
     def arrays(self):
+        """(d, F, contact elements, pillars in contact) as arrays."""
         return (np.asarray(self.d, float), np.asarray(self.F, float),
                 np.asarray(self.n_attached, np.int64), np.asarray(self.n_pillars, np.int64))
 
@@ -79,7 +81,8 @@ class BranchResult:
     f_at_min: np.ndarray        # per-group tip force at the force minimum
     p_at_min: np.ndarray
     att_at_min: np.ndarray
-    let_go_d: np.ndarray        # last d at which each group lost its last attached element (nan: never attached)
+    let_go_d: np.ndarray        # last d at which each group lost its last attached element
+    #                             (nan: never attached)
     events: int
 
 
@@ -140,16 +143,20 @@ class PathDriver:
         kern.gaps(u, self.starts, self.z0, zcoef, d, self._dl, out)
 
     def force(self) -> float:
+        """Total force on the plate (internal units; > 0 compression)."""
         return float(self.f.sum())
 
     def n_attached(self) -> int:
+        """Number of attached elements."""
         return int(np.count_nonzero(self.att))
 
     def pillars_in_contact(self) -> int:
+        """Number of pillars with at least one attached element."""
         kern.group_counts(self.att, self.starts, self.counts)
         return int(np.count_nonzero(self.counts))
 
     def record(self, curve: CurveRecorder):
+        """Append the current state to ``curve``."""
         curve.add(self.d, self.force(), self.n_attached(), self.pillars_in_contact())
 
     # -- solves -----------------------------------------------------------------------------
@@ -218,6 +225,7 @@ class PathDriver:
         self.g += s * self.g1
 
     def next_event(self, sgn: float) -> float:
+        """Distance in d (direction ``sgn``) to the next contact-set event on the current set."""
         return kern.event_distance(self.p, self.p1, self.g, self.g1, self.att,
                                    self.model.sigma_c, sgn)
 
@@ -280,6 +288,7 @@ class PathDriver:
         return snap
 
     def restore(self, snap: Snapshot):
+        """Return to the state of a snapshot."""
         self.d = snap.d
         self.p[:] = snap.p
         self.u[:] = snap.u

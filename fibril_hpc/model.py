@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .grid import Geometry, PillarGrid, build_pillar_grid, footprint, pitch_elements
+from .grid import Geometry, Lattice, PillarGrid, build_pillar_grid
 from .halfspace import HalfSpace
 from .scaling import Scaling, critical_stress
 from .scene import Scene, SolverOptions
@@ -37,10 +37,12 @@ class Model:
 
     @property
     def rigid(self) -> bool:
+        """Whether the pillars are rigid (k = inf)."""
         return math.isinf(self.k)
 
     @property
     def fft_pairs(self) -> int:
+        """FFT pairs executed by the operator so far."""
         return self.operator.n_pairs
 
 
@@ -69,15 +71,18 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
                  adhesion=adhesion, scaling=scaling, options=options, grid=grid)
 
 
+def scene_lattice(scene: Scene) -> Lattice:
+    """The lattice step of a scene (see :class:`~fibril_hpc.grid.Lattice`)."""
+    return Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter)
+
+
 def scene_scaling(scene: Scene) -> tuple[Scaling, int, tuple]:
-    """Scaling of a scene from its discrete footprint (phi_discrete = elements/pitch^2)."""
-    s = pitch_elements(scene.phi, scene.elements_per_diameter)
-    fp = footprint(s, scene.phi)
-    phi_d = len(fp) / float(s * s)
-    return Scaling(phi=phi_d, work_of_adhesion=scene.work_of_adhesion), s, fp
+    """(scaling, pitch, footprint) of a scene, from its lattice step."""
+    lat = scene_lattice(scene)
+    return lat.scaling(scene.work_of_adhesion), lat.pitch, lat.footprint
 
 
-def build_scene_model(scene: Scene, operators: "OperatorCache | None" = None, *,
+def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
                       m: int | None = None) -> Model:
     """Discretise a pillar scene and build its model (reusing a cached operator if given;
     ``m`` sets the padded FFT size of a new operator)."""
@@ -101,11 +106,13 @@ class OperatorCache:
 
     @staticmethod
     def key(scene: Scene) -> tuple:
-        o = scene.solver
-        return (scene.n_side, scene.phi, pitch_elements(scene.phi, scene.elements_per_diameter),
-                o.fft_backend, o.threads, o.fft_planner)
+        """The grid (lattice step) and the options an operator depends on
+        (``SolverOptions.operator_settings``)."""
+        return (scene.n_side, scene.phi, scene_lattice(scene).pitch,
+                *sorted(scene.solver.operator_settings().items()))
 
     def get(self, scene: Scene, geometry: Geometry) -> HalfSpace:
+        """The operator for ``scene``'s grid: cached, or built on ``geometry`` and cached."""
         k = self.key(scene)
         op = self._ops.pop(k, None)
         if op is None:

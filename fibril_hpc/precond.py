@@ -1,11 +1,11 @@
-"""Preconditioners of the attached-set operator A = K_SS + alpha B B^T (physics.md §4).
+"""Preconditioners of the attached-set operator A = K_SS + alpha B B^T (docs/model.md §4).
 
 * :class:`DiagonalPreconditioner` -- P = c0 I + alpha B B^T, inverted per pillar by
   Sherman-Morrison (O(n), any geometry).
 * :class:`BlockPreconditioner` -- block Jacobi with the *exact* dense pillar block
   P_n = K_nn + alpha 1 1^T restricted to the pillar's attached elements. It captures the stress
   concentration at the pillar edge, which dominates the conditioning, so CG needs a few iterations
-  independent of the resolution (measured: 15 -> 5 at 8 elements per diameter, 21 -> 5 at 16).
+  nearly independent of the resolution (measurements: ``benchmarks/NOTES.md``).
   Used when all groups share one footprint (pillar brushes) of at most ``max_block`` elements.
   Fully attached pillars share one inverse and are applied as one matrix product; partly attached
   ones get their own inverse, cached by attachment pattern and rebuilt only when it changes.
@@ -22,15 +22,22 @@ from .kernels import compiled as kern
 
 
 class DiagonalPreconditioner:
+    """P = c0 I + alpha B B^T on the attached set, inverted per pillar by Sherman-Morrison.
+
+    Works on any geometry (docs/model.md §4).
+    """
+
     def __init__(self, geometry, alpha: float, c0: float):
         self.starts = geometry.starts
         self.alpha = float(alpha)
         self.c0 = float(c0)
 
     def update(self, att) -> None:
+        """Prepare for a solve on the attached set ``att``."""
         pass
 
     def apply(self, r, att, z) -> float:
+        """z <- P^-1 r on the attached set; returns r.z."""
         return kern.precondition(r, att, self.starts, self.alpha, self.c0, z)
 
 
@@ -49,6 +56,11 @@ def uniform_footprint(geometry):
 
 
 class BlockPreconditioner:
+    """Block Jacobi with the exact dense pillar block on its attached elements.
+
+    Needs groups that share one footprint (docs/model.md §4).
+    """
+
     def __init__(self, geometry, alpha: float, cache_bytes: int = 64 * 2**20):
         m = uniform_footprint(geometry)
         if m is None:
@@ -98,6 +110,7 @@ class BlockPreconditioner:
         return inv
 
     def update(self, att) -> None:
+        """Prepare for a solve on the attached set ``att``."""
         if np.array_equal(att, self._att):
             return
         self.updates += 1
@@ -113,6 +126,7 @@ class BlockPreconditioner:
                 self._partial[int(g)] = self._inverse(a2[g] != 0)
 
     def apply(self, r, att, z) -> float:
+        """z <- P^-1 r on the attached set; returns r.z."""
         m = self.m
         r2 = r.reshape(self.ng, m)
         z2 = z.reshape(self.ng, m)

@@ -8,7 +8,11 @@ The preset fills only what the scene does not give:
 * the solver knobs when ``solver`` is not given, or is a mapping of the knobs to change (YAML
   ``solver: {fft_threads: 1}``; the mapping's keys override the preset's values, exactly).
   A :class:`~fibril_hpc.scene.SolverOptions` object is a complete set of knobs and is used as
-  given; :func:`solver_options` builds one from a preset with overrides.
+  given; ``SolverOptions.from_preset`` builds one from a preset with overrides.
+
+Presets set only ``accuracy`` options (``SolverOptions.of_kind("accuracy")``); resource and
+backend options (FFT threads, planner, caps) stay free. Model and presets: docs/model.md §7.
+This module holds data only and imports nothing of the package.
 
 The resolved values (and the preset's name) are stored in every result (``Scene.to_dict``), so a
 reader of an output file knows its accuracy class.
@@ -46,23 +50,10 @@ PRESETS = {
 PRESET_NAMES = tuple(PRESETS)
 
 
-def check_name(name, field: str = "preset") -> str:
-    """Return ``name`` if it is a known preset, else raise a one-line ConfigError."""
-    from .errors import ConfigError
-
-    if not isinstance(name, str) or name not in PRESETS:
-        raise ConfigError(field, name, "one of " + ", ".join(PRESET_NAMES))
-    return name
-
-
 def preset_values(name: str) -> dict:
-    """A copy of a preset's values: ``{"elements_per_diameter": ..., "solver": {...}}``."""
-    p = PRESETS[check_name(name)]
+    """A copy of a preset's values: ``{"elements_per_diameter": ..., "solver": {...}}``.
+
+    ``name`` must be one of :data:`PRESET_NAMES` (``Scene`` validates the user's choice).
+    """
+    p = PRESETS[name]
     return {"elements_per_diameter": p["elements_per_diameter"], "solver": dict(p["solver"])}
-
-
-def solver_options(name: str = DEFAULT_PRESET, **overrides):
-    """:class:`~fibril_hpc.scene.SolverOptions` of a preset with explicit overrides."""
-    from .scene import SolverOptions
-
-    return SolverOptions(**{**preset_values(name)["solver"], **overrides})

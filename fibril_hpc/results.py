@@ -33,7 +33,8 @@ class Curve:
     def __len__(self):
         return len(self.d_tilde)
 
-    def reversed(self) -> "Curve":
+    def reversed(self) -> Curve:
+        """The same points in the opposite order (copies)."""
         return Curve(self.d_tilde[::-1].copy(), self.F_tilde[::-1].copy(),
                      self.contact_fraction[::-1].copy(), self.n_pillars_in_contact[::-1].copy())
 
@@ -70,6 +71,7 @@ class PreloadResult:
     let_go_d_tilde: np.ndarray | None = None   # d~ at which each pillar let go (nan: never touched)
 
     def summary(self) -> dict:
+        """The scalar outcome as a plain dict (the HDF5 attributes of a preload)."""
         return {
             "preload_kind": self.preload_kind,
             "preload": self.preload,

@@ -1,4 +1,4 @@
-"""Every normalisation factor in one place (physics.md §2, §5).
+"""Every normalisation factor in one place (docs/model.md §2, §5).
 
 Internal units: E* = 1, L = 1 (side of the nominal square A0), and the work of adhesion
 ``work_of_adhesion`` (default 1). All inputs and outputs of the package are dimensionless:
@@ -47,14 +47,17 @@ class Scaling:
 
     @property
     def a0(self) -> float:
+        """Radius of the disc of area A0: sqrt(A0/pi)."""
         return math.sqrt(self.area / math.pi)
 
     @property
     def F_c(self) -> float:
+        """Force unit: Kendall's pull-off of a compact punch of area A0 with phi dgamma."""
         return math.sqrt(8 * math.pi * self.phi * E_STAR * self.work_of_adhesion * self.a0**3)
 
     @property
     def d_c(self) -> float:
+        """Displacement unit (with F_c; docs/model.md §2)."""
         return math.sqrt(2 * math.pi * self.phi * self.work_of_adhesion * self.a0 / E_STAR)
 
     def k(self, k_tilde: float) -> float:

@@ -10,61 +10,32 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 from dataclasses import dataclass
 
 from .errors import ConfigError
+from .presets import DEFAULT_PRESET, PRESET_NAMES, preset_values
+from .ranges import Choice, Flag, Int, Real, check_fields
 
 #: Largest filling ratio a square lattice of discs can hold (touching discs).
 PHI_MAX = math.pi / 4
 
-
-def _is_int(v):
-    return isinstance(v, numbers.Integral) and not isinstance(v, bool)
-
-
-def _is_real(v):
-    return isinstance(v, numbers.Real) and not isinstance(v, bool)
-
-
-def _as_float(name, v, allowed):
-    if isinstance(v, str):
-        s = v.strip().lower()
-        if s in ("inf", "+inf", "infinity", ".inf"):
-            return math.inf
-        try:
-            v = float(s)
-        except ValueError:
-            raise ConfigError(name, v, allowed) from None
-    if not _is_real(v):
-        raise ConfigError(name, v, allowed)
-    v = float(v)
-    if math.isnan(v):
-        raise ConfigError(name, v, allowed)
-    return v
+#: What a solver option decides (``SolverOptions`` field metadata ``kind``):
+#: ``accuracy`` options define the result (presets set them; they are part of job keys),
+#: ``backend`` options choose how it is computed (equal to rounding; part of job keys, since keys
+#: promise bitwise identity), ``resource`` options only cap or spend resources (left out of
+#: job keys).
+OPTION_KINDS = ("accuracy", "backend", "resource")
 
 
-def _as_int(name, v, lo, hi, allowed):
-    if not _is_int(v) or not (lo <= v <= hi):
-        raise ConfigError(name, v, allowed)
-    return int(v)
+def _opt(default, kind: str, rng, operator_arg: str = ""):
+    meta = {"kind": kind, "range": rng}
+    if operator_arg:
+        meta["operator_arg"] = operator_arg     # the HalfSpace argument this option sets
+    return dataclasses.field(default=default, metadata=meta)
 
 
-def _as_list(name, v, check, allowed):
-    if v is None:
-        return None
-    items = list(v) if isinstance(v, (list, tuple)) else [v]
-    if not items:
-        raise ConfigError(name, v, allowed)
-    out = []
-    for item in items:
-        x = _as_float(name, item, allowed)
-        if not check(x):
-            raise ConfigError(name, item, allowed)
-        out.append(x)
-    if len(set(out)) != len(out):
-        raise ConfigError(name, v, allowed + " (no duplicates)")
-    return tuple(sorted(out))
+def _in(default, rng, many: bool = False):
+    return dataclasses.field(default=default, metadata={"range": rng, "many": many})
 
 
 @dataclass(frozen=True)
@@ -75,7 +46,7 @@ class SolverOptions:
     ----------
     cg_tol : float
         Relative tolerance of the constrained CG, measured against the half-space part of the
-        operator: ``||r|| <= cg_tol * ||K p||`` (physics.md §4: stays accurate for soft springs).
+        operator: ``||r|| <= cg_tol * ||K p||`` (docs/model.md §4: stays accurate for soft springs).
         Range (0, 1e-2]. Default 1e-8.
     cg_maxiter : int
         Iteration cap of one CG solve; exceeding it is a :class:`NoConvergenceError`. Default 5000.
@@ -105,78 +76,64 @@ class SolverOptions:
     fft_backend : str
         ``"pyfftw"`` (default) or ``"numpy"`` (reference/comparison).
     fft_threads : int or None
-        Threads of the FFT; ``None`` (default) means one. Measured on the 2-core machine: the
-        default 18 x 18 scene took 61 s with one FFTW thread and 204 s with two (the row-pruned
-        pair is many short batched 1-D transforms, where FFTW's threads cost more than they
-        save), so more threads are opt-in (e.g. ``fibril-campaign --fft-threads`` from Slurm's
-        cpus-per-task). MPI campaigns run one single-threaded job per rank. The numba kernels
-        are serial; BLAS (block preconditioner) follows ``OPENBLAS_NUM_THREADS``.
+        Threads of the FFT; ``None`` (default) means one. The row-pruned pair is many short
+        batched 1-D transforms, where FFTW's threads cost more than they save on small machines
+        (measurements: ``benchmarks/NOTES.md``), so more threads are opt-in (e.g.
+        ``fibril-campaign --fft-threads`` from Slurm's cpus-per-task). MPI campaigns run one
+        single-threaded job per rank. The numba kernels are serial; BLAS (block preconditioner)
+        follows ``OPENBLAS_NUM_THREADS``.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
     """
 
-    cg_tol: float = 1e-8
-    cg_maxiter: int = 5000
-    relax_tol: float = 1e-5
-    event_merge: float = 1e-4
-    load_event_merge: float = 1e-2
-    max_events: int = 1_000_000
-    max_wall_s: float | None = None
-    preconditioner: str = "auto"
-    detach_policy: str = "all"
-    fft_backend: str = "pyfftw"
-    fft_threads: int | None = None
-    fft_planner: str = "estimate"
+    cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
+    cg_maxiter: int = _opt(5000, "accuracy", Int(1, 10**7))
+    relax_tol: float = _opt(1e-5, "accuracy", Real(0, 1e-2, lo_open=True))
+    event_merge: float = _opt(1e-4, "accuracy", Real(0, 1))
+    load_event_merge: float = _opt(1e-2, "accuracy", Real(0, 1))
+    max_events: int = _opt(1_000_000, "resource", Int(1, 10**9))
+    max_wall_s: float | None = _opt(None, "resource", Real(0, lo_open=True, none="null"))
+    preconditioner: str = _opt("auto", "accuracy", Choice(("auto", "block", "diagonal")))
+    detach_policy: str = _opt("all", "accuracy", Choice(("all", "worst")))
+    fft_backend: str = _opt("pyfftw", "backend", Choice(("pyfftw", "numpy")), "backend")
+    fft_threads: int | None = _opt(None, "resource", Int(1, 1024, none="null (one thread)"),
+                                   "threads")
+    fft_planner: str = _opt("estimate", "backend", Choice(("estimate", "measure", "patient")),
+                            "planner")
 
     def __post_init__(self):
-        tol = _as_float("solver.cg_tol", self.cg_tol, "a number in (0, 1e-2]")
-        if not (0 < tol <= 1e-2):
-            raise ConfigError("solver.cg_tol", self.cg_tol, "a number in (0, 1e-2]")
-        object.__setattr__(self, "cg_tol", tol)
-        rt = _as_float("solver.relax_tol", self.relax_tol, "a number in (0, 1e-2]")
-        if not (0 < rt <= 1e-2):
-            raise ConfigError("solver.relax_tol", self.relax_tol, "a number in (0, 1e-2]")
-        object.__setattr__(self, "relax_tol", rt)
-        object.__setattr__(self, "cg_maxiter", _as_int(
-            "solver.cg_maxiter", self.cg_maxiter, 1, 10**7, "an integer in [1, 1e7]"))
-        for name in ("event_merge", "load_event_merge"):
-            em = _as_float("solver." + name, getattr(self, name), "a number in [0, 1]")
-            if not (0 <= em <= 1):
-                raise ConfigError("solver." + name, getattr(self, name), "a number in [0, 1]")
-            object.__setattr__(self, name, em)
-        object.__setattr__(self, "max_events", _as_int(
-            "solver.max_events", self.max_events, 1, 10**9, "an integer in [1, 1e9]"))
-        if self.max_wall_s is not None:
-            w = _as_float("solver.max_wall_s", self.max_wall_s, "null or a number > 0")
-            if not w > 0:
-                raise ConfigError("solver.max_wall_s", self.max_wall_s, "null or a number > 0")
-            object.__setattr__(self, "max_wall_s", w)
-        if self.preconditioner not in ("auto", "block", "diagonal"):
-            raise ConfigError("solver.preconditioner", self.preconditioner,
-                              "'auto', 'block' or 'diagonal'")
-        if self.detach_policy not in ("all", "worst"):
-            raise ConfigError("solver.detach_policy", self.detach_policy, "'all' or 'worst'")
-        if self.fft_backend not in ("pyfftw", "numpy"):
-            raise ConfigError("solver.fft_backend", self.fft_backend, "'pyfftw' or 'numpy'")
-        if self.fft_threads is not None:
-            _as_int("solver.fft_threads", self.fft_threads, 1, 1024,
-                    "null (all CPUs of this process) or an integer in [1, 1024]")
-        if self.fft_planner not in ("estimate", "measure", "patient"):
-            raise ConfigError("solver.fft_planner", self.fft_planner,
-                              "'estimate', 'measure' or 'patient'")
+        check_fields(self, "solver.")
+
+    @classmethod
+    def from_preset(cls, name: str = DEFAULT_PRESET, **overrides) -> SolverOptions:
+        """The options of an accuracy preset (:mod:`fibril_hpc.presets`) with explicit overrides."""
+        return cls(**{**preset_values(name)["solver"], **overrides})
+
+    @classmethod
+    def of_kind(cls, kind: str) -> tuple:
+        """Names of the options of one kind (see :data:`OPTION_KINDS`), in field order."""
+        return tuple(f.name for f in dataclasses.fields(cls) if f.metadata["kind"] == kind)
+
+    def operator_settings(self) -> dict:
+        """The keyword arguments of :class:`~fibril_hpc.halfspace.HalfSpace` these options set
+        (``fft_threads`` resolved): what an operator, and so an operator cache, depends on."""
+        return {f.metadata["operator_arg"]: (self.threads if f.name == "fft_threads"
+                                             else getattr(self, f.name))
+                for f in dataclasses.fields(self) if "operator_arg" in f.metadata}
 
     @property
     def threads(self) -> int:
         """Resolved FFT thread count: ``fft_threads``, else 1 (see the attribute's docs)."""
         return 1 if self.fft_threads is None else self.fft_threads
 
-    def replace(self, **changes) -> "SolverOptions":
+    def replace(self, **changes) -> SolverOptions:
+        """A copy with options changed (validated again)."""
         return dataclasses.replace(self, **changes)
 
 
 @dataclass(frozen=True)
 class Scene:
-    """A pillar-array pull-off scene in dimensionless inputs (physics.md §1-2).
+    """A pillar-array pull-off scene in dimensionless inputs (docs/model.md §1-2).
 
     Attributes
     ----------
@@ -207,7 +164,7 @@ class Scene:
         no unloading branch: it retraces the loading one, so F_A = 0).
     work_of_adhesion : float
         Internal unit of the adhesion energy (E* = L = 1). Normalised results do not depend on it
-        (scale invariance, physics.md §2); it exists so that tests can prove that. Default 1.
+        (scale invariance, docs/model.md §2); it exists so that tests can prove that. Default 1.
     preset : str
         Accuracy preset, ``fast``, ``default`` or ``accurate`` (:mod:`fibril_hpc.presets`): fills
         ``elements_per_diameter`` if it is ``None`` and the solver knobs if ``solver`` is ``None``
@@ -217,24 +174,23 @@ class Scene:
         knobs that override the preset's, or ``None`` (the preset's). Stored resolved.
     """
 
-    n_side: int = 18
-    phi: float = 0.16
-    k_tilde: float = 0.01
-    sigma_tilde: float = 0.5
-    d_tilde: tuple | None = None
-    F_P: tuple | None = None
-    seed: int = 0
-    elements_per_diameter: float | None = None
-    adhesion: bool = True
-    work_of_adhesion: float = 1.0
-    preset: str = "default"
+    n_side: int = _in(18, Int(1, 200))
+    phi: float = _in(0.16, Real(0, PHI_MAX, lo_open=True, hi_open=True))
+    k_tilde: float = _in(0.01, Real(0, lo_open=True, note=", or inf for rigid pillars"))
+    sigma_tilde: float = _in(0.5, Real(0, 1000))
+    d_tilde: tuple | None = _in(None, Real(), many=True)
+    F_P: tuple | None = _in(None, Real(0, 1e6, lo_open=True, hi_open=True), many=True)
+    seed: int = _in(0, Int(0, 2**63 - 1, hi_text="2**63-1"))
+    elements_per_diameter: float | None = _in(None, Real(2, 128))
+    adhesion: bool = _in(True, Flag())
+    work_of_adhesion: float = _in(1.0, Real(0, 1e12, lo_open=True, hi_open=True))
+    preset: str = _in(DEFAULT_PRESET, Choice(PRESET_NAMES))
     solver: SolverOptions | dict | None = None
 
     def __post_init__(self):
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
-        from .presets import check_name, preset_values
-        pv = preset_values(check_name(self.preset))     # preset fills what is not given
-        if self.elements_per_diameter is None:
+        pv = preset_values(Choice(PRESET_NAMES).check("preset", self.preset))
+        if self.elements_per_diameter is None:      # the preset fills what is not given
             set_("elements_per_diameter", pv["elements_per_diameter"])
         if self.solver is None or isinstance(self.solver, dict):
             bad = sorted(set(self.solver or {}) - set(SOLVER_FIELDS))
@@ -242,45 +198,17 @@ class Scene:
                 raise ConfigError(f"solver.{bad[0]}", self.solver[bad[0]],
                                   "a known option: " + ", ".join(SOLVER_FIELDS))
             set_("solver", SolverOptions(**{**pv["solver"], **(self.solver or {})}))
-        set_("n_side", _as_int("n_side", self.n_side, 1, 200, "an integer in [1, 200]"))
-        phi = _as_float("phi", self.phi, "a number in (0, 0.785)")
-        if not (0 < phi < PHI_MAX):
-            raise ConfigError("phi", self.phi, "a number in (0, 0.785)")
-        set_("phi", phi)
-        k = _as_float("k_tilde", self.k_tilde, "a number > 0, or inf for rigid pillars")
-        if not k > 0:
-            raise ConfigError("k_tilde", self.k_tilde, "a number > 0, or inf for rigid pillars")
-        set_("k_tilde", k)
-        s = _as_float("sigma_tilde", self.sigma_tilde, "a number in [0, 1000]")
-        if not (0 <= s <= 1000):
-            raise ConfigError("sigma_tilde", self.sigma_tilde, "a number in [0, 1000]")
-        set_("sigma_tilde", s)
         if self.d_tilde is not None and self.F_P is not None:
             raise ConfigError("F_P", self.F_P, "give either d_tilde or F_P, not both")
-        set_("d_tilde", _as_list("d_tilde", self.d_tilde, math.isfinite,
-                                 "a finite number or a non-empty list of them"))
-        set_("F_P", _as_list("F_P", self.F_P, lambda x: 0 < x < 1e6,
-                             "a number in (0, 1e6) or a non-empty list of them"))
+        check_fields(self)
         if self.d_tilde is None and self.F_P is None:
             set_("F_P", (4.0,))
-        set_("seed", _as_int("seed", self.seed, 0, 2**63 - 1, "an integer in [0, 2**63-1]"))
-        e = _as_float("elements_per_diameter", self.elements_per_diameter,
-                      "a number in [2, 128]")
-        if not (2 <= e <= 128):
-            raise ConfigError("elements_per_diameter", self.elements_per_diameter,
-                              "a number in [2, 128]")
-        set_("elements_per_diameter", e)
-        if not isinstance(self.adhesion, bool):
-            raise ConfigError("adhesion", self.adhesion, "true or false")
-        w = _as_float("work_of_adhesion", self.work_of_adhesion, "a number in (0, 1e12)")
-        if not (0 < w < 1e12):
-            raise ConfigError("work_of_adhesion", self.work_of_adhesion, "a number in (0, 1e12)")
-        set_("work_of_adhesion", w)
         if not isinstance(self.solver, SolverOptions):
             raise ConfigError("solver", self.solver, "a mapping of solver options")
 
     @property
     def rigid(self) -> bool:
+        """Whether the pillars are rigid (k~ = inf)."""
         return math.isinf(self.k_tilde)
 
     @property
@@ -290,9 +218,10 @@ class Scene:
 
     @property
     def preloads(self) -> tuple:
+        """The preload values (``d_tilde`` or ``F_P``, ascending)."""
         return self.d_tilde if self.d_tilde is not None else self.F_P
 
-    def replace(self, **changes) -> "Scene":
+    def replace(self, **changes) -> Scene:
         """A copy with fields changed (``d_tilde``/``F_P`` swap cleanly)."""
         if "d_tilde" in changes and "F_P" not in changes:
             changes["F_P"] = None

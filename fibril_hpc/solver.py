@@ -1,10 +1,12 @@
-"""Preconditioned conjugate gradients on the attached set at one plate displacement (physics.md §4).
+"""Preconditioned conjugate gradients on the attached set at one plate displacement (docs/model.md §4).
 
-Solves  A p = b  on S,  A = K_SS + alpha B B^T  (alpha = h^2/k; alpha = 0 for rigid pillars, where
-the spring work is skipped inside the kernels), with the exact per-pillar Sherman-Morrison
-preconditioner P = c0 I + alpha B B^T. The stopping test is measured against the half-space part
-of the operator, ||r|| <= tol ||K p||_S (+ a floor of 1e3 eps ||b||), because for soft springs most
-of b goes into the springs and ||r|| <= tol ||b|| would be far too lax.
+Solves A p = b on S, A = K_SS + alpha B B^T (alpha = h^2/k; alpha = 0 for rigid pillars, where the
+spring work is skipped inside the kernels). The preconditioner is chosen by
+``SolverOptions.preconditioner``: by default (``"auto"``) the exact per-pillar block Jacobi one
+wherever all pillars share one footprint, else the Sherman-Morrison diagonal one
+P = c0 I + alpha B B^T (see :mod:`fibril_hpc.precond`). The stopping test is measured against
+the half-space part of the operator, ||r|| <= tol ||K p||_S (+ a floor of 1e3 eps ||b||),
+because for soft springs most of b goes into the springs and ||r|| <= tol ||b|| would be far too lax.
 
 The solver also keeps u = K p on *every* active element (attached or not) up to date, since the
 gaps of free elements need it. Warm start: ``x`` in, solution out (entries off S must be zero).

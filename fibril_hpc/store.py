@@ -76,7 +76,7 @@ def write_result(group, result: SimulationResult) -> None:
     a["definitions"] = _attrs_json(result.definitions)
     a["discretisation"] = _attrs_json(result.discretisation)
     a["stats"] = _attrs_json(result.stats)
-    a["created"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    a["created"] = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
     if result.xi is not None:
         pg = group.create_group("pillars")
         pg.create_dataset("xi", data=result.xi)

@@ -39,8 +39,9 @@ def campaign_cmd() -> list:
 
 def env() -> dict:
     e = dict(os.environ)
-    for var in ("PMI_SIZE", "PMI_RANK", "PMI_FD", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK",
-                "SLURM_STEP_NUM_TASKS", "HYDI_CONTROL_FD"):
+    from fibril_hpc.campaign.launcher import MARKER_VARS, RANK_VARS, SIZE_VARS
+
+    for var in MARKER_VARS + SIZE_VARS + RANK_VARS:     # run as if no launcher started us
         e.pop(var, None)
     e.setdefault("NUMBA_CACHE_DIR", os.path.join(os.path.dirname(__file__), "..", ".numba_cache"))
     return e

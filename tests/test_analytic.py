@@ -1,4 +1,4 @@
-"""Validation against closed-form contact mechanics (physics.md §6). Tolerances are the measured
+"""Validation against closed-form contact mechanics (docs/model.md §8). Tolerances are the measured
 discretisation bias at the resolution used (README, "Validation"), not looser."""
 
 import math

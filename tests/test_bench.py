@@ -1,4 +1,5 @@
-"""The developer benchmark (python -m benchmarks.fibril_bench): the quick mode produces the table and the JSON (no timing assertions).
+"""The developer benchmark (python -m benchmarks.fibril_bench): the quick mode produces the table
+and the JSON (no timing assertions).
 
 The peer comparison checks *answers* (same total force and contact set as fibril on the peers'
 own problem) when ContactMechanics / tamaas are installed, and says "skipped" when they are not.

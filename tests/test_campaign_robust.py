@@ -45,7 +45,7 @@ def test_sigkill_at_random_moments_then_resume_exactly_once(tmp_path):
     rng = random.Random(20261122)
     seen: dict = {}            # key -> record_id of a done record seen after a kill
     kills = 0
-    for attempt in range(12):
+    for _ in range(12):
         p = start([grid, "--checkpoint-s", "0", "--no-progress"])
         # a random moment *while it runs*: after a random number of new records (the solver's
         # speed, the machine's load and the JIT cache must not decide whether the kill lands),

@@ -107,7 +107,11 @@ def test_stiff_limit_is_the_rigid_result(flat_k_sweep):
     errs = [abs(f / rigid - 1) for f in fa[:-1]]
     assert errs[-1] < 1e-5                           # k~ = 1e5
     assert all(e1 >= e2 - 1e-12 for e1, e2 in zip(errs, errs[1:]))   # monotone approach
-    assert errs[ks.index(1e-5)] == pytest.approx(fa[0] / rigid - 1)
+    # the springs are a first-order perturbation of the rigid brush: the deviation falls like
+    # 1/k~ (1e2 -> 1e5: 1000x smaller), and the soft end reaches a plateau (k~ -> 0)
+    e2, e5 = fa[ks.index(1e2)] / rigid - 1, fa[ks.index(1e5)] / rigid - 1
+    assert e2 > 0 and e5 * 1e5 == pytest.approx(e2 * 1e2, rel=0.05)
+    assert fa[0] / fa[1] - 1 == pytest.approx(0.0, abs=2e-3) and fa[0] > rigid
 
 
 @pytest.mark.parametrize("k_tilde", [0.01, math.inf])

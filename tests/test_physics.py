@@ -98,12 +98,52 @@ def test_very_rough_and_no_contact(opts):
     assert "touches no pillar" in nothing.message
 
 
-def test_non_adhesive_has_no_pull_off(opts):
-    r = run(opts, k_tilde=0.05, sigma_tilde=0.5, F_P=1.0, adhesion=False)
-    assert r.main.F_A == 0.0
-    assert r.main.at_pulloff is None
-    np.testing.assert_array_equal(r.main.unloading.F_tilde, r.main.loading.F_tilde[::-1])
-    assert np.all(r.main.loading.F_tilde >= -1e-12)
+def _curve_at(d, F, x):
+    """The exact piecewise-affine curve at x, away from its vertical jumps."""
+    i = np.searchsorted(d, x)
+    return F[i - 1] + (F[i] - F[i - 1]) * (x - d[i - 1]) / (d[i] - d[i - 1])
+
+
+def test_non_adhesive_curve_is_the_fixed_d_contact_solution(opts):
+    """Without adhesion, simulate returns the loading branch reversed as the unloading one.
+    Check that independently: frictionless contact is path independent, so every point of both
+    branches must equal a fresh fixed-d contact solve (PathDriver.solve_at, no load path), and an
+    adhesive unloading path with a vanishing detachment stress must retrace the loading path."""
+    from fibril_hpc.loading import CurveRecorder, PathDriver
+    from fibril_hpc.model import build_model, build_scene_model
+
+    exact = opts.replace(load_event_merge=0.0, event_merge=0.0)    # no event batching
+    scene = Scene(**{**SMALL, "k_tilde": 0.05, "sigma_tilde": 0.5, "F_P": 1.0,
+                     "adhesion": False, "solver": exact})
+    r = simulate(scene)
+    assert r.status == "ok" and r.main.F_A == 0.0 and r.main.at_pulloff is None
+    model = build_scene_model(scene)
+    sc = model.scaling
+    d, F = r.main.loading.d_tilde, r.main.loading.F_tilde
+    mids = [(a + b) / 2 for a, b in zip(d[:-1], d[1:]) if b - a > 1e-6]
+    assert len(mids) >= 3
+    drv = PathDriver(model)
+    for x in mids:
+        drv.solve_at(x * sc.d_c)
+        assert drv.force() / sc.F_c == pytest.approx(_curve_at(d, F, x), rel=1e-6, abs=1e-9)
+        assert np.all(drv.p[drv.att != 0] >= -1e-9 * sc.F_c)       # no tension anywhere
+    du, Fu = r.main.unloading.d_tilde[::-1], r.main.unloading.F_tilde[::-1]
+    for x in mids:
+        drv.solve_at(x * sc.d_c)
+        assert drv.force() / sc.F_c == pytest.approx(_curve_at(du, Fu, x), rel=1e-6, abs=1e-9)
+    # the real unloading code with sigma_c -> 0 (tiny work of adhesion) retraces loading
+    sticky = build_model(model.geometry, k=model.k, adhesion=True, work_of_adhesion=1e-24,
+                         scaling=sc, options=model.options)
+    drv2 = PathDriver(sticky)
+    snap = drv2.load([d[-1] * sc.d_c], "d", CurveRecorder())[0]
+    br = drv2.unload(snap)
+    ud, uF, _, _ = br.curve.arrays()
+    order = np.argsort(ud, kind="stable")
+    ud, uF = ud[order] / sc.d_c, uF[order] / sc.F_c
+    for x in mids:
+        if ud[0] < x < ud[-1]:
+            assert _curve_at(ud, uF, x) == pytest.approx(_curve_at(d, F, x), rel=1e-5, abs=1e-6)
+    assert -br.F_min / sc.F_c < 1e-6            # no pull-off force without adhesion
 
 
 def test_loading_force_non_decreasing_and_pillar_outputs(opts):

@@ -10,7 +10,7 @@ import pytest
 
 from fibril_hpc import ConfigError, Scene, SolverOptions, scene_from_dict
 from fibril_hpc.cli.run import main as run_main
-from fibril_hpc.presets import PRESETS, solver_options
+from fibril_hpc.presets import PRESETS
 
 
 def test_default_preset_is_the_package_default():
@@ -39,7 +39,7 @@ def test_explicit_fields_override_the_preset():
     assert s.solver.fft_threads == 1
     # Python: a mapping overrides key by key; a SolverOptions object is complete and used as is
     p = Scene(preset="accurate", solver={"fft_threads": 1})
-    assert p.solver == solver_options("accurate", fft_threads=1)
+    assert p.solver == SolverOptions.from_preset("accurate", fft_threads=1)
     full = SolverOptions(fft_threads=1)
     assert Scene(preset="accurate", solver=full).solver == full
     # resolving is idempotent: copies and YAML round trips keep the knobs

@@ -1,3 +1,4 @@
+import dataclasses
 import math
 
 import pytest
@@ -51,3 +52,33 @@ def test_inf_and_lists_are_accepted():
 def test_default_fft_threads_is_one():
     assert SolverOptions().threads == 1
     assert SolverOptions(fft_threads=3).threads == 3
+
+
+def test_one_range_gives_the_check_and_the_text():
+    from fibril_hpc.ranges import range_of
+
+    for field, bad in (("phi", 0.9), ("k_tilde", 0), ("sigma_tilde", -1.0), ("seed", -1),
+                       ("n_side", 0), ("elements_per_diameter", 1.0), ("F_P", -1.0)):
+        rng = range_of(Scene, field)
+        with pytest.raises(ConfigError) as e:
+            Scene(**{field: bad})
+        assert e.value.field == field and e.value.allowed.startswith(rng.allowed())
+    assert range_of(Scene, "phi").allowed() == "a number in (0, 0.785)"
+    assert range_of(Scene, "k_tilde").allowed(plural=True) == \
+        "numbers > 0, or inf for rigid pillars"
+    with pytest.raises(ConfigError, match=r"solver.fft_threads: .*null \(one thread\)"):
+        SolverOptions(fft_threads=0)
+
+
+def test_option_kinds_decide_keys_presets_and_operators():
+    from fibril_hpc.campaign.spec import KEY_EXCLUDED_SOLVER
+    from fibril_hpc.presets import PRESETS
+
+    # the job-key contract of existing campaign files: exactly these are left out
+    assert set(KEY_EXCLUDED_SOLVER) == {"fft_threads", "max_wall_s", "max_events"}
+    kinds = {k: set(SolverOptions.of_kind(k)) for k in ("accuracy", "backend", "resource")}
+    assert set().union(*kinds.values()) == {f.name for f in dataclasses.fields(SolverOptions)}
+    for p in PRESETS.values():
+        assert set(p["solver"]) <= kinds["accuracy"]
+    o = SolverOptions(fft_threads=None, fft_planner="measure")
+    assert o.operator_settings() == {"backend": "pyfftw", "threads": 1, "planner": "measure"}

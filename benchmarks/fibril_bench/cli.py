@@ -72,7 +72,7 @@ def run(args, log=print) -> dict:
         raise SystemExit(f"fibril-bench: unknown section {bad[0]!r} "
                          f"(known: {', '.join(SECTIONS)})")
     floors = FloorCache(args.planner, max(3, cfg["runs"]), args.clock)
-    started = _dt.datetime.now(_dt.timezone.utc)
+    started = _dt.datetime.now(_dt.UTC)
     res = {"meta": {"command": " ".join(["fibril-bench"] + list(args.argv)),
                     "mode": "quick" if args.quick else "full",
                     "started_utc": started.strftime("%Y-%m-%dT%H:%M:%SZ"),
@@ -93,7 +93,7 @@ def run(args, log=print) -> dict:
         res["meta"].setdefault("section_load", {})[s] = {"start": load0, "end": loadavg()}
     res["floors"] = {str(m): {k: v for k, v in f.items()} for m, f in floors.data.items()}
     res["meta"]["loadavg_end"] = loadavg()
-    res["meta"]["finished_utc"] = _dt.datetime.now(_dt.timezone.utc).strftime(
+    res["meta"]["finished_utc"] = _dt.datetime.now(_dt.UTC).strftime(
         "%Y-%m-%dT%H:%M:%SZ")
     os.makedirs(args.out, exist_ok=True)
     path = os.path.join(args.out, f"bench-{started.strftime('%Y-%m-%d-%H%M%S')}"

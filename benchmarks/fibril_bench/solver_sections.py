@@ -16,15 +16,14 @@ from fibril_hpc import Scene, simulate
 from fibril_hpc.fft import FFTPair
 from fibril_hpc.greens import padded_size
 from fibril_hpc.loading import PathDriver
-from fibril_hpc.model import build_scene_model, scene_scaling
+from fibril_hpc.model import build_scene_model, scene_lattice
 
 from .timing import Stopwatch, bench_scene, floor_pair, time_call
 
 
 def scene_grid_side(scene) -> int:
     """Grid side N (elements) of a scene: n_side pillars of ``pitch`` elements."""
-    _, pitch, _ = scene_scaling(scene)
-    return scene.n_side * pitch
+    return scene_lattice(scene).grid_side
 
 
 def section_fft(cfg, floors, log):
@@ -39,10 +38,11 @@ def section_fft(cfg, floors, log):
         fl = floors.get(m)
         rng = np.random.default_rng(1)
         pair.real_in[...] = rng.standard_normal(pair.real_in.shape)
-        pruned = time_call(lambda: pair.convolve(op.kernel_hat), cfg["runs"], clock=cfg["clock"])
+        pruned = time_call(lambda pair=pair, op=op: pair.convolve(op.kernel_hat), cfg["runs"],
+                           clock=cfg["clock"])
         p = rng.standard_normal(model.geometry.n_active)
         u = np.empty_like(p)
-        apply = time_call(lambda: op.apply(p, u), cfg["runs"], clock=cfg["clock"])
+        apply = time_call(lambda op=op, p=p, u=u: op.apply(p, u), cfg["runs"], clock=cfg["clock"])
         row = {"pitch": pitch, "N": model.geometry.n, "m": m, "R": len(pair.rows),
                "R_over_m": len(pair.rows) / m, "n_active": model.geometry.n_active,
                "floor_ms": 1e3 * fl["median_s"], "floor_plan_s": fl["plan_s"],
@@ -192,7 +192,8 @@ def section_opts(cfg, floors, log):
     n1 = 3 if q else 8
     pre = {}
     for kind in ("diagonal", "block"):      # warm-up: JIT / cache loads are not timed
-        _curve_stats(Scene(n_side=2, solver={"fft_threads": 1, "preconditioner": kind}), cfg["clock"])
+        _curve_stats(Scene(n_side=2, solver={"fft_threads": 1, "preconditioner": kind}),
+                     cfg["clock"])
     for kind in ("diagonal", "block"):
         pre[kind] = _curve_stats(Scene(n_side=n1, solver={"fft_threads": 1,
                                                           "preconditioner": kind}), cfg["clock"])
@@ -264,7 +265,7 @@ def section_opts(cfg, floors, log):
             with Stopwatch(cfg["clock"]) as w:
                 pair = FFTPair(m, rows, threads=1, planner=planner)
             pair.real_in[...] = np.random.default_rng(2).standard_normal(pair.real_in.shape)
-            t = time_call(lambda: pair.convolve(model.operator.kernel_hat), runs,
+            t = time_call(lambda pair=pair, kh=model.operator.kernel_hat: pair.convolve(kh), runs,
                           clock=cfg["clock"])
             _forget_wisdom()
             r[planner] = {"pair_ms": 1e3 * t["median_s"], "plan_s": w.t,

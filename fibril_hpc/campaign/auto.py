@@ -51,6 +51,7 @@ class AutoPreloads:
     rounds: int = 6
 
     def to_dict(self) -> dict:
+        """The settings as a plain mapping (as written in the resolved grid)."""
         d = asdict(self)
         d["start"] = list(self.start)
         return d
@@ -97,6 +98,7 @@ def parse(value) -> AutoPreloads:
 
 
 def settings_hash(a: AutoPreloads) -> str:
+    """Short SHA-256 of the settings (part of an auto grid's campaign hash)."""
     return hashlib.sha256(json.dumps(a.to_dict(), sort_keys=True).encode()).hexdigest()[:16]
 
 

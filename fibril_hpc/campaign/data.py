@@ -36,6 +36,7 @@ class CampaignData:
         return iter(self.jobs)
 
     def column(self, name: str) -> np.ndarray:
+        """One column over all jobs: a float array when every value is a number, else objects."""
         vals = [j.get(name) for j in self.jobs]
         if vals and all(isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
                         for v in vals):
@@ -74,6 +75,7 @@ class CampaignData:
 
     @property
     def definitions(self) -> dict:
+        """The file's normalisation definitions (JSON of the ``definitions`` attribute)."""
         return json.loads(self.meta.get("definitions", "{}"))
 
     def select(self, **where) -> list:

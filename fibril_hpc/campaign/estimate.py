@@ -21,15 +21,15 @@ PAIRS_PER_PILLAR_ELEMENT = 30.0
 
 def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
     """(seconds per FFT pair, FFT size, elements per pillar) timed on ``scene``'s grid."""
-    from ..grid import build_pillar_grid
+    from ..grid import Lattice, build_pillar_grid
     from ..halfspace import HalfSpace
-    from ..model import scene_scaling
 
-    scaling, _, fp = scene_scaling(scene)
+    lat = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter)
+    fp = lat.footprint
     grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter,
-                             scene.sigma_tilde * scaling.d_c, scene.seed)
-    o = scene.solver
-    op = HalfSpace(grid.geometry, backend=o.fft_backend, threads=o.threads, planner=o.fft_planner)
+                             scene.sigma_tilde * lat.scaling(scene.work_of_adhesion).d_c,
+                             scene.seed)
+    op = HalfSpace.from_options(grid.geometry, scene.solver)
     p = np.ones(grid.geometry.n_active)
     out = np.empty_like(p)
     op.apply(p, out)
@@ -40,6 +40,7 @@ def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
 
 
 def task_seconds(scene, n_preloads: int, pair_s: float, elements_per_pillar: int) -> float:
+    """Modelled seconds of one task of ``n_preloads`` preloads (see the module docstring)."""
     pairs = (PAIRS_PER_PILLAR_ELEMENT * scene.n_side ** 2 * math.sqrt(elements_per_pillar)
              * (1 + 0.15 * (n_preloads - 1)))
     return pairs * pair_s

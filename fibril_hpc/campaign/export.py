@@ -30,6 +30,7 @@ def export_csv(path: str, out: str) -> int:
 
 
 def parquet_available() -> bool:
+    """Whether pandas and pyarrow can be imported (Parquet export)."""
     try:
         import pandas  # noqa: F401
         import pyarrow  # noqa: F401

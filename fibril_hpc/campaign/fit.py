@@ -56,6 +56,7 @@ _T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 
 
 
 def t975(dof: int) -> float:
+    """Two-sided 95 % Student-t quantile for ``dof`` degrees of freedom (NaN below 1)."""
     if dof < 1:
         return math.nan
     return _T975[dof - 1] if dof <= len(_T975) else 1.96
@@ -89,6 +90,8 @@ def model(law: str, F_P, c: float, plateau: float):
 
 @dataclass
 class LawFit:
+    """A law fitted to points: c, plateau, kink (plateau / c) and the rms residual of log F~_A."""
+
     law: str
     c: float
     plateau: float
@@ -259,6 +262,8 @@ def fit_group(seed, preload, F_P, F_A, *, law: str = DEFAULT_LAW, k_tilde=math.n
 # ---------------------------------------------------------------------------- alpha, beta
 @dataclass
 class AlphaBeta:
+    """c = alpha/sigma~ - beta fitted for one k~: values, 95 % intervals, residuals, notes."""
+
     k_tilde: float
     alpha: float
     beta: float

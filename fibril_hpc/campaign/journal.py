@@ -25,10 +25,12 @@ _HEAD = struct.Struct("<4sQI")
 
 
 def journal_path(output: str) -> str:
+    """The journal beside the campaign file ``output``."""
     return output + ".journal"
 
 
 def encode(record: dict) -> bytes:
+    """One journal frame of ``record`` (see the module docstring for the format)."""
     payload = pickle.dumps(record, protocol=5)
     return _HEAD.pack(MAGIC, len(payload), zlib.crc32(payload)) + payload
 
@@ -69,6 +71,7 @@ class JournalWriter:
         self.replayed = records
 
     def append(self, record: dict) -> None:
+        """Append one record and ``fsync`` it before returning."""
         data = encode(record)
         view = memoryview(data)
         while view:
@@ -82,6 +85,7 @@ class JournalWriter:
         os.fsync(self._fd)
 
     def close(self) -> None:
+        """Close the journal file (idempotent)."""
         if self._fd is not None:
             os.close(self._fd)
             self._fd = None

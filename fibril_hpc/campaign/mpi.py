@@ -50,6 +50,10 @@ def _wait_message(comm, source, tag, stop=None):
 
 def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.0,
                progress=True, grace_s=120.0) -> int:
+    """Rank 0: the single writer; hands out tasks one at a time and writes every record.
+
+    Returns the exit status that every rank exits with.
+    """
     from mpi4py import MPI
 
     size = comm.Get_size()
@@ -128,6 +132,7 @@ def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.
 
 
 def run_worker(comm) -> int:
+    """A worker rank: run the tasks the master sends until it says stop; returns the exit status."""
     status, value = comm.bcast(None, root=0)
     if status != "ok":
         return value

@@ -20,12 +20,15 @@ class FixedPlanner:
         self.todo = writer.keys_to_run(retry_failed)
 
     def initial(self) -> list:
+        """The tasks of every pending job."""
         return self.spec.tasks(self.todo)
 
     def after(self, task, records) -> list:  # noqa: ARG002 - same interface as AutoPlanner
+        """No follow-ups: a fixed grid knows all its jobs in advance."""
         return []
 
     def counts(self) -> dict:
+        """Done, failed and pending jobs of the grid."""
         return self.writer.counts()
 
 
@@ -44,6 +47,7 @@ class AutoPlanner:
         return [self.spec.auto_task(path, todo)] if todo else []
 
     def initial(self) -> list:
+        """The current round of every unfinished path (replayed from the records)."""
         out = []
         for path in self.spec.paths():
             todo, _ = path_todo(self.auto, self.done[path], self.retry_failed, self.failed[path])
@@ -52,6 +56,7 @@ class AutoPlanner:
         return out
 
     def after(self, task, records) -> list:
+        """The next round of the path of ``task`` given its new ``records`` (or nothing)."""
         j0 = task.jobs[0]
         path = (j0.k_tilde, j0.sigma_tilde, j0.seed)
         for r in records:
@@ -64,12 +69,14 @@ class AutoPlanner:
         return self._task(path)
 
     def counts(self) -> dict:
+        """Done and failed jobs so far (an auto grid has no pending count)."""
         done = sum(len(d) for d in self.done.values())
         failed = sum(len(f - set(self.done[p])) for p, f in self.failed.items())
         return {"jobs": done + failed, "done": done, "failed": failed, "pending": 0}
 
 
 def make_planner(spec, writer, retry_failed: bool):
+    """The planner of ``spec``: :class:`AutoPlanner` for ``F_P: auto``, else :class:`FixedPlanner`."""
     return (AutoPlanner if spec.auto is not None else FixedPlanner)(spec, writer, retry_failed)
 
 

@@ -25,6 +25,7 @@ class Progress:
         self.running = 0
 
     def update(self, records, running: int = 0, force: bool = False):
+        """Count finished ``records`` (one task's), note the running tasks, maybe redraw."""
         for r in records:
             if r["status"] == "done":
                 self.done += 1
@@ -36,6 +37,7 @@ class Progress:
         self.show(force)
 
     def line(self) -> str:
+        """The progress text: jobs finished, done, failed, running, elapsed, ETA."""
         finished = self.done + self.failed
         left = self.total - finished
         el = time.monotonic() - self.t0
@@ -50,6 +52,7 @@ class Progress:
                 f"elapsed {time.strftime('%H:%M:%S', time.gmtime(el))} ETA {eta_s}")
 
     def show(self, force=False):
+        """Redraw the line (on a terminal at most twice a second, else every ``every_s``)."""
         if not self.enabled:
             return
         now = time.monotonic()
@@ -64,6 +67,7 @@ class Progress:
             self._last = now
 
     def finish(self):
+        """End the line on a terminal."""
         if self.enabled and self.tty:
             self.stream.write("\n")
             self.stream.flush()

@@ -16,8 +16,8 @@ Every combination (k_tilde, sigma_tilde, preload, seed) is one job. A job's key 
 digits of the SHA-256 of its resolved single-preload scene (canonical JSON of the fields that
 differ from their defaults, plus k_tilde, sigma_tilde, seed and the preload; without the resource
 and cap options ``solver.fft_threads``, ``solver.max_wall_s``, ``solver.max_events``), so keys
-do not depend on the order of the lists, on other jobs, or on scene fields added later. The campaign hash is the SHA-256 of
-the sorted job keys: two grids with the same set of jobs have the same hash.
+do not depend on the order of the lists, on other jobs, or on scene fields added later. The
+campaign hash is the SHA-256 of the sorted job keys: two grids with the same set of jobs have the same hash.
 """
 
 from __future__ import annotations
@@ -32,13 +32,15 @@ import yaml
 
 from ..config import read_yaml
 from ..errors import ConfigError
-from ..scene import SCENE_FIELDS, Scene, scene_from_dict
+from ..ranges import range_of
+from ..scene import Scene, SolverOptions, scene_from_dict
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
             "group_preloads", "description")
-#: solver options that limit resources but do not define a result (left out of job keys)
-KEY_EXCLUDED_SOLVER = ("fft_threads", "max_wall_s", "max_events")
+#: solver options that limit resources but do not define a result (left out of job keys):
+#: the ``resource`` options of :class:`~fibril_hpc.scene.SolverOptions`
+KEY_EXCLUDED_SOLVER = SolverOptions.of_kind("resource")
 
 
 @dataclass(frozen=True)
@@ -54,6 +56,7 @@ class Job:
     seed: int
 
     def inputs(self) -> dict:
+        """The job's identity fields, as stored in its record."""
         return {"key": self.key, "k_tilde": self.k_tilde, "sigma_tilde": self.sigma_tilde,
                 "preload_kind": self.preload_kind, "preload": self.preload, "seed": self.seed}
 
@@ -67,11 +70,14 @@ class Task:
 
     @property
     def keys(self):
+        """Keys of the task's jobs."""
         return [j.key for j in self.jobs]
 
 
 @dataclass
 class CampaignSpec:
+    """A validated campaign grid: the base scene, the swept values, the output and the jobs."""
+
     base: Scene
     k_tilde: tuple
     sigma_tilde: tuple
@@ -99,6 +105,7 @@ class CampaignSpec:
                 "group_preloads": self.group_preloads}
 
     def resolved_yaml(self) -> str:
+        """The resolved campaign as YAML (stored in the file as ``campaign_yaml``)."""
         return yaml.safe_dump(self.resolved(), sort_keys=False)
 
     @property
@@ -118,6 +125,7 @@ class CampaignSpec:
         return [(k, s, seed) for k in self.k_tilde for s in self.sigma_tilde for seed in self.seeds]
 
     def path_key(self, path) -> str:
+        """Key of the path's scene at F_P = 1 (its identity in an auto grid's campaign hash)."""
         k, s, seed = path
         return job_key(self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed, F_P=(1.0,)))
 
@@ -135,6 +143,7 @@ class CampaignSpec:
 
     # ------------------------------------------------------------------ jobs
     def job_scene(self, job: Job) -> Scene:
+        """The single-preload scene of one job (what its key is computed from)."""
         return self.base.replace(k_tilde=job.k_tilde, sigma_tilde=job.sigma_tilde, seed=job.seed,
                                  **{self.preload_kind: (job.preload,)})
 
@@ -158,6 +167,7 @@ class CampaignSpec:
 
 
 def campaign_hash_of(keys) -> str:
+    """SHA-256 (hex) of a set of job keys, independent of their order."""
     return hashlib.sha256("\n".join(sorted(keys)).encode()).hexdigest()
 
 
@@ -175,7 +185,10 @@ def job_key(scene: Scene) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _values(name, v, check, allowed):
+def _values(name, v):
+    """A number or a list of numbers in the range of Scene field ``name`` (order kept)."""
+    rng = range_of(Scene, name)
+    allowed = rng.allowed(plural=True)
     items = list(v) if isinstance(v, (list, tuple)) else [v]
     if not items:
         raise ConfigError(name, v, allowed)
@@ -187,7 +200,7 @@ def _values(name, v, check, allowed):
             x = float(item)
         except ValueError:
             raise ConfigError(name, item, allowed) from None
-        if math.isnan(x) or not check(x):
+        if math.isnan(x) or not rng.contains(x):
             raise ConfigError(name, item, allowed)
         out.append(x)
     if len(set(out)) != len(out):
@@ -218,9 +231,8 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     for name in ("k_tilde", "sigma_tilde"):
         if name not in data:
             raise ConfigError(name, None, "a number or a list of numbers (required)")
-    ks = _values("k_tilde", data["k_tilde"], lambda x: x > 0, "numbers > 0 (inf: rigid)")
-    ss = _values("sigma_tilde", data["sigma_tilde"], lambda x: 0 <= x <= 1000,
-                 "numbers in [0, 1000]")
+    ks = _values("k_tilde", data["k_tilde"])
+    ss = _values("sigma_tilde", data["sigma_tilde"])
     if ("d_tilde" in data) == ("F_P" in data):
         raise ConfigError("F_P", data.get("F_P"), "give either F_P or d_tilde (one of them)")
     kind = "F_P" if "F_P" in data else "d_tilde"
@@ -230,11 +242,14 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
 
         auto = parse(data["F_P"])
         pre = ()
-    elif kind == "F_P":
-        pre = _values("F_P", data["F_P"], lambda x: 0 < x < 1e6,
-                      "numbers in (0, 1e6), 'auto' or {auto: {settings}}")
     else:
-        pre = _values("d_tilde", data["d_tilde"], math.isfinite, "finite numbers")
+        try:
+            pre = _values(kind, data[kind])
+        except ConfigError as exc:
+            if kind != "F_P":
+                raise
+            raise ConfigError(exc.field, exc.value, exc.allowed + "; or auto, or "
+                              "{auto: {settings}} (README, 'Report')") from None
     seeds_v = data.get("seeds", 1)
     if isinstance(seeds_v, bool):
         raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")

@@ -39,17 +39,18 @@ from ..errors import StoreError
 from ..files import discard_on_failure, fsync_dir
 from . import journal as _journal
 from .record import BRANCHES, CURVE_KEYS, SCALAR_KEYS
+from .spec import KEY_EXCLUDED_SOLVER
 
 PROGRAM = "fibril-hpc campaign"
 FORMAT_VERSION = 1
 KEY_DEFINITION = ("first 16 hex digits of SHA-256 of the job's single-preload scene as canonical "
                   "JSON (sorted keys) of k_tilde, sigma_tilde, seed, the preload and every field "
-                  "that differs from its default, without solver.fft_threads, "
-                  "solver.max_wall_s, solver.max_events")
+                  "that differs from its default, without "
+                  + ", ".join("solver." + k for k in KEY_EXCLUDED_SOLVER))
 
 
 def now() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    return _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
 
 
 def _attr(v):
@@ -61,6 +62,7 @@ def _attr(v):
 
 
 def is_campaign_file(path: str) -> bool:
+    """Whether ``path`` is an HDF5 file written by fibril-campaign."""
     try:
         with h5py.File(path, "r") as fh:
             return fh.attrs.get("program") == PROGRAM
@@ -199,10 +201,11 @@ def checkpoint(path: str, root_attrs: dict, records) -> None:
 def root_attrs_for(spec, extended_from=None) -> dict:
     """Root attributes describing a campaign spec."""
     from .._version import __version__
-    from ..model import scene_scaling
+    from ..grid import Lattice
     from ..results import json_safe, software_versions
 
-    scaling, _, _ = scene_scaling(spec.base)
+    b = spec.base
+    scaling = Lattice.of(b.n_side, b.phi, b.elements_per_diameter).scaling(b.work_of_adhesion)
     defs = dict(scaling.definitions())
     defs["F_A"] = "pull-off force: -min F over the unloading branch, / F_c"
     defs["F_P"] = "force at the end of loading (the preload reached), / F_c"

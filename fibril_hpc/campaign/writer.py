@@ -97,6 +97,7 @@ class CampaignWriter:
 
     # -------------------------------------------------------------- queries
     def keys_to_run(self, retry_failed: bool) -> list:
+        """Keys of the grid's jobs without a record (and, with ``retry_failed``, the failed ones)."""
         out = []
         for j in self.spec.jobs:
             r = self.records.get(j.key)
@@ -105,6 +106,7 @@ class CampaignWriter:
         return out
 
     def counts(self) -> dict:
+        """Jobs of the grid: total, done, failed and pending."""
         keys = {j.key for j in self.spec.jobs}
         done = sum(1 for k in keys if self.records.get(k, {}).get("status") == "done")
         failed = sum(1 for k in keys if self.records.get(k, {}).get("status") == "failed")
@@ -113,12 +115,14 @@ class CampaignWriter:
 
     # -------------------------------------------------------------- writing
     def add(self, records) -> None:
+        """Journal the records of one task (durably), then checkpoint if it is time."""
         for rec in records:
             self.journal.append(rec)
             self._remember(rec)
         self.checkpoint()
 
     def checkpoint(self, force: bool = False) -> None:
+        """Fold the journal into the HDF5 file (at most every ``checkpoint_s`` unless ``force``)."""
         if not force and (not self._unpublished
                           or time.monotonic() - self._last_ckpt < self.checkpoint_s):
             return
@@ -136,6 +140,7 @@ class CampaignWriter:
         self.checkpoint_s = max(self.checkpoint_s, 10.0 * (self._last_ckpt - t0))
 
     def close(self) -> None:
+        """Publish what is left, close the journal and release the lock."""
         try:
             self.checkpoint(force=bool(self._unpublished))
         finally:

@@ -9,6 +9,7 @@ from .._version import __version__
 from ..accuracy import CASES, add_errors, markdown, plot, read_rows, run_case
 from ..accuracy.study import run_one
 from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError
+from ..files import check_output_folder
 from ..results import software_versions
 from .common import Parser, error
 
@@ -41,9 +42,7 @@ def main(argv=None) -> int:
                 raise ConfigError("--cases", c, "a comma-separated subset of " + ", ".join(CASES))
             if args.quick and CASES[c]["quick"] is None:
                 raise ConfigError("--cases", c, "in --quick mode: pillar, brush6")
-        parent = os.path.dirname(os.path.abspath(args.out))
-        if not os.path.isdir(parent) or (os.path.exists(args.out) and not os.path.isdir(args.out)):
-            raise ConfigError("--out", args.out, "a folder (created if its parent exists)")
+        check_output_folder(args.out, "--out")
         csv_path = os.path.join(args.out, "accuracy.csv")
         if args.report_only and not os.path.exists(csv_path):
             raise ConfigError("--report-only", csv_path, "an existing accuracy.csv in --out")

@@ -13,7 +13,7 @@ import sys
 
 from ..campaign.launcher import launcher_rank
 from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError, StoreError
-from ..files import check_writable
+from ..files import check_output_folder, check_writable
 from .common import Parser, error, setup_logging
 
 SUBCOMMANDS = ("run", "status", "report", "export", "merge")
@@ -235,11 +235,7 @@ def cmd_report(args) -> int:
     from ..campaign.report import write_report
 
     _existing(args.file, "file")
-    if os.path.exists(args.out) and not os.path.isdir(args.out):
-        raise ConfigError("--out", args.out, "a folder (it is a file)")
-    parent = os.path.dirname(os.path.abspath(args.out))
-    if not os.path.isdir(parent):
-        raise ConfigError("--out", args.out, "a folder whose parent exists")
+    check_output_folder(args.out, "--out")
     if not 20 <= args.n_boot <= 100000:
         raise ConfigError("--n-boot", args.n_boot, "an integer in [20, 100000]")
     os.makedirs(args.out, exist_ok=True)
