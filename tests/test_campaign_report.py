@@ -142,3 +142,13 @@ def test_frame_and_export_csv_parquet(tmp_path):
     rows = list(csv.DictReader(cs.read_text().splitlines()))
     assert [float(r["F_A"]) for r in rows] == list(df["F_A"])
     assert main(["export", path]) == 2
+
+
+def test_a_floor_of_first_contacts_is_not_a_linear_stage():
+    pre = np.array(PRELOADS * 3)
+    seed = np.repeat([0, 1, 2], len(PRELOADS))
+    floor = np.maximum(0.3, fit.model("tanh", pre, 2.0, 1.0))          # flat below F_P ~ 0.15
+    g = fit.fit_group(seed, pre, pre, floor * (1 + 0.01 * seed), law="tanh", n_boot=50)
+    assert not g.resolved and "floor" in g.note
+    lin = fit.model("tanh", pre, 2.0, 1.0) * (1 + 0.01 * seed)
+    assert fit.fit_group(seed, pre, pre, lin, law="tanh", n_boot=50).resolved

@@ -29,8 +29,10 @@ covariance (Gauss-Newton at the optimum, residual variance with n - 2 degrees of
 Student-t quantile), as intervals in log (so they stay positive).
 
 **Resolved.** The linear stage is *resolved* when at least two preload levels (seed-mean F~_P)
-lie below the kink; otherwise the (k~, sigma~) is *unresolved*: its c is a bound, not a
-measurement, and it does not enter alpha and beta. The plateau is *confirmed* when at least two
+lie below the kink and the seed-mean F~_A rises across them at least as fast as sqrt(F~_P) (half
+the log-slope of a linear stage; a flat run is the floor of the first contacts, where F~_A is the
+pull-off of the few pillars that touch); otherwise the (k~, sigma~) is *unresolved*: its c is a
+bound, not a measurement, and it does not enter alpha and beta. The plateau is *confirmed* when at least two
 preload levels lie above the kink.
 
 **alpha, beta.** Weighted least squares of c against 1/sigma~ over the resolved sigma~ > 0
@@ -247,10 +249,20 @@ def fit_group(seed, preload, F_P, F_A, *, law: str = DEFAULT_LAW, k_tilde=math.n
     else:
         cis = _covariance_ci(x, y, f)
         method = "fit covariance (one seed)"
-    resolved = below >= 2
-    if not resolved:
+    rising = True
+    if below >= 2:
+        fa_lev = _levels(preload, y)
+        lo, hi = int(np.argmin(lev)), int(np.argmax(np.where(lev < f.kink, lev, -np.inf)))
+        # a linear stage doubles F~_A when F~_P doubles; a floor (the pull-off of the few
+        # pillars that touch first) stays flat: ask for at least half that log-slope
+        rising = bool(fa_lev[lo] > 0 and fa_lev[hi] / fa_lev[lo] >= math.sqrt(lev[hi] / lev[lo]))
+    resolved = below >= 2 and rising
+    if below < 2:
         notes.append(f"unresolved: {below} preload level(s) below the kink F~_P = {f.kink:.3g} "
                      "(needs 2); c is a lower bound, left out of alpha and beta")
+    elif not rising:
+        notes.append("unresolved: below the kink F~_A rises less than sqrt(F~_P) (a floor of "
+                     "first contacts, not a linear stage); left out of alpha and beta")
     if above < 2:
         notes.append(f"plateau not confirmed: {above} preload level(s) above the kink")
     return GroupFit(float(k_tilde), float(sigma_tilde), law, f.c, f.plateau, f.kink,

@@ -96,7 +96,7 @@ def law_comparison(fits_by_law) -> tuple[str, str]:
           "groups |", "| --- | --- | --- | --- |"]
     per = {}
     for lw in laws:
-        per[lw] = [(g.rms_log, g.n_below >= 2)
+        per[lw] = [(g.rms_log, g.resolved)
                    for e in fits_by_law[lw].values() for g in e["groups"]]
     n = len(per[laws[0]]) if laws else 0
     for lw in laws:
