@@ -137,3 +137,15 @@ def test_shipped_grids_load():
     # soft pillars bend near F_P = 0.01 (README, "Report"): the paper grid starts far below
     assert paper.auto is not None and paper.auto.start[0] <= 0.001 and paper.auto.min <= 1e-4
     assert specs["report_example.yaml"].campaign_hash.startswith("062ebf3df2b0")
+
+
+def test_auto_shards_merge_into_the_same_records(auto_run, tmp_path):
+    _, ref = auto_run
+    for s in (0, 1):
+        grid = write_grid(tmp_path, AUTO, name=f"s{s}.yaml", seeds=[s], output=f"s{s}.h5")
+        assert main([grid, "--no-progress", "--serial"]) == 0
+    out = str(tmp_path / "all.h5")
+    assert main(["merge", str(tmp_path / "s0.h5"), str(tmp_path / "s1.h5"), "-o", out]) == 0
+    a, b = results_by_key(ref), results_by_key(out)
+    assert set(a) == set(b) and same_numbers(a, b) == []
+    assert main(["status", out]) == 0
