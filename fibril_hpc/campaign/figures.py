@@ -179,6 +179,9 @@ def plateau(fits, out_dir, name="plateau.png"):
         a1.set_xscale("log")
     if _spans_decades(ks):
         a2.set_xscale("log")
+    if _spans_decades([g.plateau for e in fits.values() for g in e["groups"]]):
+        a1.set_yscale("log")
+        a2.set_yscale("log")
     a2.set_xlabel(f"pillar stiffness {KT}")
     a2.set_ylabel(f"plateau {FA}")
     a1.legend(fontsize=6)
@@ -239,6 +242,8 @@ def alpha_sigma_c(fits, out_dir, name="alpha_sigma_c.png"):
         if _spans_decades(ks):
             ax.set_xscale("log")
         ax.set_xlabel(f"pillar stiffness {KT}")
+    if ks and _spans_decades([fits[k]["ab"].alpha for k in ks]):
+        a1.set_yscale("log")
     a1.set_ylabel("α (c = α/$\\tilde\\sigma$ − β)")
     a1.set_title("α, 95 % intervals")
     a2.set_ylabel(f"critical roughness {SIG}$_c$ = α/β")
