@@ -97,7 +97,8 @@ def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
     with open(page, "w", encoding="utf-8") as fh:
         fh.write(f"# Report of `{os.path.abspath(path)}`\n\n{len(c.jobs)} job records "
                  f"({n_done} done), campaign `{c.meta.get('campaign_hash')}`. Fitted law: "
-                 f"**{law}**; intervals are 95 %.\n\n## Criteria\n\n**Law per{crit}\n"
+                 f"**{law}**; intervals are 95 % ({n_boot} bootstrap resamples over seeds where there "
+                 f"are several).\n\n## Criteria\n\n**Law per{crit}\n"
                  f"## α, β, σ̃_c per k̃ (`alpha_beta.csv`)\n\n{texts['alpha_beta']}\n"
                  f"## The laws compared (`law_comparison.csv`)\n\n{texts['law_comparison']}\n"
                  f"## Fit per (k̃, σ̃) (`fits.csv`)\n\n{texts['fits']}\n## Figures\n\n")
