@@ -114,6 +114,7 @@ def test_report_on_a_real_campaign_writes_every_figure_and_table(tmp_path):
     assert {(float(r["k_tilde"]), float(r["sigma_tilde"])) for r in rows} == {(1.0, 0.3),
                                                                                  (1.0, 1.0)}
     for r in rows:
+        assert "c_residual_of_alpha_beta_fit" in r
         assert r["resolved"] in ("true", "false")
         assert r["resolved"] == "true" or "unresolved" in r["note"]
     ab = list(csv.DictReader((out / "alpha_beta.csv").read_text().splitlines()))

@@ -65,26 +65,29 @@ def groups_table(fits) -> tuple[str, str]:
     head = ["k_tilde", "sigma_tilde", "law", "c", "c_lo", "c_hi", "plateau", "plateau_lo",
             "plateau_hi", "kink_F_P", "kink_lo", "kink_hi", "n_seeds", "n_preloads",
             "n_below_kink", "n_above_kink", "resolved", "plateau_confirmed", "rms_log",
-            "rms_log_other_laws", "ci_method", "note"]
+            "rms_log_other_laws", "c_residual_of_alpha_beta_fit", "ci_method", "note"]
     rows = [head]
     md = ["| k̃ | σ̃ | c [95 % CI] | plateau F̃_A [95 % CI] | kink F̃_P [95 % CI] | below / above "
-          "kink | resolved | rms log F̃_A (other law) | note |",
-          "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+          "kink | resolved | rms log F̃_A (other law) | c − (α/σ̃ − β) | note |",
+          "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for k, e in fits.items():
+        ab = e["ab"]
+        resid = dict(zip(ab.sigmas, ab.residuals))
         for g in e["groups"]:
+            r = resid.get(float(g.sigma_tilde), math.nan)
             other = " ".join(f"{lw}={v:.4g}" for lw, v in g.rms_log_other.items())
             rows.append([repr(float(k)), repr(float(g.sigma_tilde)), g.law, _num(g.c),
                          _num(g.c_ci[0]), _num(g.c_ci[1]), _num(g.plateau),
                          _num(g.plateau_ci[0]), _num(g.plateau_ci[1]), _num(g.kink),
                          _num(g.kink_ci[0]), _num(g.kink_ci[1]), str(g.n_seeds),
                          str(g.n_levels), str(g.n_below), str(g.n_above), str(g.resolved).lower(),
-                         str(g.plateau_confirmed).lower(), _num(g.rms_log), other, g.ci_method,
-                         g.note])
+                         str(g.plateau_confirmed).lower(), _num(g.rms_log), other, _num(r),
+                         g.ci_method, g.note])
             md.append(f"| {k:g} | {g.sigma_tilde:g} | {_val_ci(g.c, g.c_ci)} | "
                       f"{_val_ci(g.plateau, g.plateau_ci)} | {_val_ci(g.kink, g.kink_ci, '.3g')} "
                       f"| {g.n_below} / {g.n_above} | "
                       f"{'yes' if g.resolved else '**unresolved**'} | {_md(g.rms_log, '.3g')} "
-                      f"({other}) | {g.note} |")
+                      f"({other}) | {_md(r, '.3g')} | {g.note} |")
     return _csv(rows), "\n".join(md) + "\n"
 
 
