@@ -149,3 +149,21 @@ def test_auto_shards_merge_into_the_same_records(auto_run, tmp_path):
     a, b = results_by_key(ref), results_by_key(out)
     assert set(a) == set(b) and same_numbers(a, b) == []
     assert main(["status", out]) == 0
+
+
+def test_status_counts_the_current_round_of_an_unfinished_auto_path(auto_run, tmp_path):
+    import shutil
+
+    import h5py
+
+    from fibril_hpc.campaign.status import file_status
+
+    _, ref = auto_run
+    assert file_status(ref).totals["pending"] == 0
+    path = str(tmp_path / "part.h5")
+    shutil.copy(ref, path)
+    with h5py.File(path, "a") as fh:
+        last = max(fh["jobs"], key=lambda k: fh["jobs"][k].attrs["preload"])
+        del fh["jobs"][last]                      # a start preload (the largest): round 0
+    st = file_status(path)
+    assert st.totals["pending"] == 1 and st.totals["done"] == len(results_by_key(ref)) - 1

@@ -32,20 +32,34 @@ class FileStatus:
     failed: list = field(default_factory=list)
 
 
-def _grid_jobs(meta: dict, path: str) -> dict | None:
-    """{key: Job} of the grid stored in the file, or None (a merged file may hold several)."""
+def _grid_jobs(meta: dict, path: str, records=()) -> dict | None:
+    """{key: Job} of the grid stored in the file, or None (a merged file may hold several).
+
+    With ``F_P: auto`` the grid's jobs so far: the current round of every unfinished path,
+    replayed from ``records`` (later rounds are not known yet)."""
     try:
         resolved = yaml.safe_load(meta.get("campaign_yaml", ""))
         resolved["output"] = os.path.abspath(path)
-        return {j.key: j for j in spec_from_dict(resolved).jobs}
+        spec = spec_from_dict(resolved)
     except Exception:  # noqa: BLE001 - no single grid: count the records only
         return None
+    if spec.auto is None:
+        return {j.key: j for j in spec.jobs}
+    from .auto import path_todo, results_by_path
+
+    done, failed = results_by_path(records, spec.paths())
+    out = {}
+    for p in spec.paths():
+        todo, _ = path_todo(spec.auto, done[p], False, failed[p])
+        if todo:
+            out.update({j.key: j for j in spec.auto_task(p, todo).jobs})
+    return out
 
 
 def file_status(path: str) -> FileStatus:
     """Done, failed and pending jobs of the file at ``path`` (pending: in its grid, no record)."""
     c = load_campaign(path, curves=False)
-    grid = _grid_jobs(c.meta, path) or {}
+    grid = _grid_jobs(c.meta, path, c.jobs) or {}
     recs = {j["key"]: j for j in c.jobs}
     by_k: dict = {}
     for k in set(recs) | set(grid):
