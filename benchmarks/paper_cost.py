@@ -4,7 +4,8 @@
     python benchmarks/paper_cost.py --k 10,0.1,0.001 --sigma 0.07,0.384,2.1 --json cost.json
 
 Each sampled (k~, sigma~, seed) runs exactly as in the campaign: one ``simulate`` call with all
-the grid's preloads, ``solver.fft_threads = 1`` (one core), one OperatorCache. The total is the
+the grid's preloads (with ``F_P: auto``, every round the campaign would run),
+``solver.fft_threads = 1`` (one core), one OperatorCache. The total is the
 sum over every (k~, sigma~) of the grid of the wall time of the nearest sampled point (in
 log k~, log sigma~), times the number of seeds. Costs are CPU seconds of the (single-threaded)
 process, so that a busy shared machine does not inflate them (wall times are printed too);
@@ -25,6 +26,35 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 def _floats(text):
     return [float(x) for x in text.split(",") if x.strip()]
+
+
+def _run_path(spec, path, simulate, ops):
+    """Run one (k~, sigma~, seed) as the campaign would: one simulate call with the grid's
+    preloads, or with ``F_P: auto`` every round the planner asks for. Returns the last result,
+    the summed stats and the preloads run."""
+    if spec.auto is None:
+        task = [t for t in spec.tasks() if (t.jobs[0].k_tilde, t.jobs[0].sigma_tilde,
+                                            t.jobs[0].seed) == path][0]
+        r = simulate(task.scene, operators=ops)
+        return r, r.stats, [j.preload for j in task.jobs]
+    from fibril_hpc.campaign.auto import path_todo
+
+    results, run, total = {}, [], {"cg_iterations": 0, "fft_pairs": 0, "events": 0}
+    r = None
+    while True:
+        todo, _ = path_todo(spec.auto, results)
+        if not todo:
+            return r, total, run
+        task = spec.auto_task(path, todo)
+        r = simulate(task.scene, operators=ops)
+        for name in total:
+            total[name] += r.stats[name]
+        run += todo
+        for p, x in zip(todo, r.results):
+            if x.status == "ok":
+                results[p] = (x.F_P, x.F_A)
+        if r.status != "ok":
+            return r, total, run
 
 
 def main(argv=None) -> int:
@@ -54,27 +84,26 @@ def main(argv=None) -> int:
             return 2
     pair_s, m, epp = fft_pair_seconds(spec.base)
     print(f"grid {spec.base.n_side}^2 pillars, FFT {m}^2, {epp} elements/pillar, "
-          f"{len(spec.preloads)} preloads per path; {pair_s * 1e3:.2f} ms per FFT pair (1 thread); "
+          f"{'F_P auto' if spec.auto else len(spec.preloads)} preloads per path; "
+          f"{pair_s * 1e3:.2f} ms per FFT pair (1 thread); "
           f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs", flush=True)
     ops = OperatorCache()
     samples = []
     for k in ks:
         for s in ss:
-            task = [t for t in spec.tasks() if t.jobs[0].k_tilde == k
-                    and t.jobs[0].sigma_tilde == s and t.jobs[0].seed == args.seed][0]
             t0, c0 = time.perf_counter(), time.process_time()
-            r = simulate(task.scene, operators=ops)
+            r, st, preloads = _run_path(spec, (k, s, args.seed), simulate, ops)
             wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-            st = r.stats
             samples.append({"k_tilde": k, "sigma_tilde": s, "wall_s": wall, "cpu_s": cpu,
-                            "status": r.status,
+                            "status": r.status, "preloads": preloads,
                             "message": r.message, "cg_iterations": st["cg_iterations"],
                             "fft_pairs": st["fft_pairs"], "events": st["events"],
                             "F_A": [x.F_A for x in r.results],
                             "load": os.getloadavg()[0]})
             print(f"  k~={k:g} sigma~={s:g}: {cpu:8.1f} s CPU ({wall:.1f} s wall)  {r.status:6s} "
                   f"{st['fft_pairs']} FFT pairs, {st['cg_iterations']} CG iterations, "
-                  f"{st['events']} events, {wall / max(st['fft_pairs'], 1) * 1e3:.2f} ms/pair"
+                  f"{st['events']} events, {wall / max(st['fft_pairs'], 1) * 1e3:.2f} ms/pair, "
+                  f"{len(samples[-1]['preloads'])} preloads"
                   + (f"  ({r.message})" if r.status != "ok" else ""), flush=True)
 
     def nearest(k, s):
@@ -85,9 +114,10 @@ def main(argv=None) -> int:
     total *= len(spec.seeds)
     capped = any(x["status"] != "ok" for x in samples)
     per_pillar = [x["fft_pairs"] / (spec.base.n_side ** 2 * math.sqrt(epp)
-                                    * (1 + 0.15 * (len(spec.preloads) - 1))) for x in samples]
+                                    * (1 + 0.15 * (len(x["preloads"]) - 1))) for x in samples]
+    n_paths = len(spec.paths())
     out = {"grid": os.path.abspath(args.grid), "jobs": len(spec.jobs),
-           "paths": len(spec.tasks()), "samples": samples, "ms_per_fft_pair": pair_s * 1e3,
+           "paths": n_paths, "samples": samples, "ms_per_fft_pair": pair_s * 1e3,
            "core_hours": total / 3600, "lower_bound": capped,
            "mean_path_cpu_s": sum(x["cpu_s"] for x in samples) / len(samples),
            "pairs_per_pillar_element": sum(per_pillar) / len(per_pillar),
@@ -95,7 +125,7 @@ def main(argv=None) -> int:
            .read().strip()}
     cap_note = " (at least: a sample hit the cap)" if capped else ""
     print(f"estimate: {out['core_hours']:.0f} core-hours{cap_note} "
-          f"for {len(spec.jobs)} jobs in {len(spec.tasks())} loading paths "
+          f"for {len(spec.jobs) or 'auto'} jobs in {n_paths} loading paths "
           f"(mean sampled path {out['mean_path_cpu_s']:.0f} s CPU); with N ranks x N/(N-1) for the master; "
           f"FFT pairs per pillar per sqrt(element) {out['pairs_per_pillar_element']:.0f}")
     if args.json:

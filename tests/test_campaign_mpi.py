@@ -108,3 +108,19 @@ def test_other_grid_refused_under_mpirun(tmp_path, serial):
     assert r.returncode == 2, r.stderr
     assert r.stderr.count("another grid") == 1
     assert (tmp_path / "tiny.h5").read_bytes() == before
+
+
+def test_mpi_auto_preloads_equal_serial(tmp_path):
+    """F_P: auto under MPI: the master plans every path's rounds; same preloads and records."""
+    from test_campaign_auto import AUTO
+
+    ser = tmp_path / "ser"
+    par = tmp_path / "par"
+    ser.mkdir()
+    par.mkdir()
+    assert main([write_grid(ser, AUTO), "--no-progress", "--serial"]) == 0
+    r = _mpirun(3, [write_grid(par, AUTO), "--no-progress"])
+    assert r.returncode == 0, r.stderr
+    a, b = results_by_key(str(ser / "auto.h5")), results_by_key(str(par / "auto.h5"))
+    assert set(a) == set(b) and len(a) > 10
+    assert same_numbers(a, b) == []

@@ -153,31 +153,3 @@ def test_merge_shards(full, tmp_path):
     merged = results_by_key(out)
     assert same_numbers(results_by_key(full), merged) == []
     assert main(["merge", str(tmp_path / "a.h5"), str(tmp_path / "b.h5"), "-o", out]) == 2
-
-
-def test_report(full, tmp_path):
-    out = tmp_path / "rep"
-    assert main(["report", full, "--out", str(out), "--linear-max", "0.5"]) == 0
-    for f in ("FA_vs_FP.png", "c_vs_sigma.png", "plateau.png", "fit_table.csv", "fit_table.md",
-              "README.md"):
-        assert (out / f).stat().st_size > 0
-    rows = list(csv.DictReader((out / "fit_table.csv").read_text().splitlines()))
-    assert {float(r["k_tilde"]) for r in rows} == {1.0, 0.01}
-    assert "Linear stage" in (out / "README.md").read_text()
-
-
-def test_report_analysis_recovers_a_known_fit():
-    from fibril_hpc.campaign.report import analyse
-
-    alpha, beta = 0.6, 0.4
-    jobs = []
-    for s in (0.2, 0.5, 1.0):
-        for fp in (0.1, 0.2, 5.0):
-            c = alpha / s - beta
-            fa = c * fp if fp <= 1 else 3.0
-            jobs.append({"status": "done", "k_tilde": 1.0, "sigma_tilde": s, "preload": fp,
-                         "F_P": fp, "F_A": fa, "seed": 0})
-    an = analyse(jobs, linear_max=1.0)["k"][1.0]
-    assert an["alpha"] == pytest.approx(alpha) and an["beta"] == pytest.approx(beta)
-    assert an["sigma_c"] == pytest.approx(1.5)
-    assert an["plateau"][0.5] == 3.0 and an["plateau_reached"][0.5] is False

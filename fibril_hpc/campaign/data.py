@@ -52,6 +52,31 @@ class CampaignData:
         """Column name -> array (numeric columns as float arrays)."""
         return {c: self.column(c) for c in COLUMNS}
 
+    def frame(self):
+        """The jobs as a pandas DataFrame, one row per job, the columns of :data:`COLUMNS` typed
+        as the fields of :class:`~.record.JobRecord` (float, int64, str); needs pandas
+        (``pip install 'fibril-hpc[report]'``)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            from ..errors import ConfigError
+
+            raise ConfigError("pandas", "not installed",
+                              "pip install 'fibril-hpc[report]' for DataFrames") from None
+        types = column_types()
+        data = {}
+        for name in COLUMNS:
+            vals = [j.get(name) for j in self.jobs]
+            t = types[name]
+            if t is float:
+                data[name] = np.array([math.nan if v is None else float(v) for v in vals],
+                                      dtype=float)
+            elif t is int:
+                data[name] = np.array([0 if v is None else int(v) for v in vals], dtype=np.int64)
+            else:
+                data[name] = ["" if v is None else str(v) for v in vals]
+        return pd.DataFrame(data, columns=list(COLUMNS))
+
     @property
     def definitions(self) -> dict:
         """The file's normalisation definitions (JSON of the ``definitions`` attribute)."""
@@ -73,6 +98,16 @@ class CampaignData:
         return out
 
 
+def column_types() -> dict:
+    """Column name -> float, int or str, from the annotations of :class:`~.record.JobRecord`."""
+    from dataclasses import fields
+
+    from .record import JobRecord
+
+    names = {"float": float, "int": int, "str": str}
+    return {f.name: names.get(str(f.type), str) for f in fields(JobRecord) if f.name in COLUMNS}
+
+
 def _sort_key(j):
     return (j.get("k_tilde", 0.0), j.get("sigma_tilde", 0.0), j.get("seed", 0),
             j.get("preload", 0.0))
@@ -86,6 +121,7 @@ def load_campaign(path: str, curves: bool = True) -> CampaignData:
     >>> c = load_campaign("results.h5")                      # doctest: +SKIP
     >>> done = c.select(status="done", k_tilde=0.01)        # doctest: +SKIP
     >>> [(j["F_P"], j["F_A"]) for j in done]                # doctest: +SKIP
+    >>> df = c.frame()              # pandas DataFrame, one row per job  # doctest: +SKIP
     """
     from .store import read_snapshot
 

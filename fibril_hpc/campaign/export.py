@@ -1,4 +1,5 @@
-"""CSV export of a campaign: one row per job, the columns of :data:`.record.COLUMNS`."""
+"""Export of a campaign, one row per job with the columns of :data:`.record.COLUMNS`: CSV
+(no extra dependency) and Parquet (pandas + pyarrow: the ``report`` extra)."""
 
 from __future__ import annotations
 
@@ -29,4 +30,28 @@ def export_csv(path: str, out: str) -> int:
     return len(c.jobs)
 
 
-__all__ = ["export_csv"]
+def parquet_available() -> bool:
+    """Whether pandas and pyarrow can be imported (Parquet export)."""
+    try:
+        import pandas  # noqa: F401
+        import pyarrow  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def export_parquet(path: str, out: str) -> int:
+    """Write the jobs of ``path`` to the Parquet file ``out`` (atomically, typed columns);
+    returns the rows. Needs pandas and pyarrow."""
+    df = load_campaign(path, curves=False).frame()
+    tmp = out + ".part"
+    try:
+        df.to_parquet(tmp, engine="pyarrow", index=False)
+        os.replace(tmp, out)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return len(df)
+
+
+__all__ = ["export_csv", "export_parquet", "parquet_available"]

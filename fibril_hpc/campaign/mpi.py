@@ -27,7 +27,8 @@ from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, DiskFul
 from ..model import OperatorCache
 from .control import Interrupted, StopFlag, interrupted_message
 from .execute import execute_task
-from .progress import finished_line, for_writer, nothing_to_run
+from .planner import make_planner
+from .progress import finished_line, for_planner, nothing_to_run
 from .runner import order_tasks
 from .writer import CampaignWriter
 
@@ -84,12 +85,13 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
     code = EXIT_OK
     busy: dict = {}
     full = None
-    todo: list = []
+    n_todo = 0
     queue: deque = deque()
     try:
-        todo = writer.keys_to_run(retry_failed)
-        queue = deque(order_tasks(spec.tasks(todo)))
-        prog = for_writer(writer, todo, size - 1, progress and bool(todo))
+        planner = make_planner(spec, writer, retry_failed)
+        queue = deque(order_tasks(planner.initial()))
+        n_todo = sum(len(t.jobs) for t in queue)
+        prog = for_planner(planner, n_todo, size - 1, progress and bool(n_todo))
         idle = deque(range(1, size))
         while idle and queue and not stop.stop:
             r = idle.popleft()
@@ -101,20 +103,24 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
             if comm.Iprobe(source=MPI.ANY_SOURCE, tag=TAG_RESULT, status=status):
                 src = status.Get_source()
                 recs = comm.recv(source=src, tag=TAG_RESULT)
-                busy.pop(src, None)
+                task = busy.pop(src, None)
                 if recs is None:          # the worker was signalled and abandoned its job
                     stop.stop = True
-                if queue and not stop.stop:
-                    busy[src] = queue.popleft()
-                    comm.send(("task", busy[src]), dest=src, tag=TAG_TASK)
-                else:
-                    idle.append(src)
-                if recs is not None and full is None:
+                elif full is None:
                     try:
                         writer.add(recs)
                         prog.update(recs, running=len(busy))
                     except DiskFull as exc:     # stop handing out; jobs in flight are lost
                         full, stop.stop = exc, True
+                    else:
+                        more = planner.after(task, recs)      # F_P: auto: the path's next round
+                        queue.extend(more)
+                        prog.total += sum(len(t.jobs) for t in more)
+                idle.append(src)
+                while idle and queue and not stop.stop:
+                    r = idle.popleft()
+                    busy[r] = queue.popleft()
+                    comm.send(("task", busy[r]), dest=r, tag=TAG_TASK)
                 continue
             if stop.stop:
                 if stop_since is None:
@@ -136,7 +142,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
         if stop.stop or queue:
             code = EXIT_INTERRUPTED
         else:
-            c = writer.counts()
+            c = planner.counts()
             code = EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED
     finally:
         stop.busy = False
@@ -152,8 +158,8 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
     elif code == EXIT_INTERRUPTED:
         print(interrupted_message(spec.output, stop.signum), file=sys.stderr)
     else:
-        c = writer.counts()
-        print(finished_line(spec.output, c) if todo else nothing_to_run(spec.output, c),
+        c = planner.counts()
+        print(finished_line(spec.output, c) if n_todo else nothing_to_run(spec.output, c),
               file=sys.stderr)
     for r in range(1, size):
         if r not in busy:

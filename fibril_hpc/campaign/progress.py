@@ -78,13 +78,18 @@ class Progress:
             self.stream.flush()
 
 
-def for_writer(writer, todo, workers: int, enabled: bool) -> Progress:
-    """The progress line of a run of ``writer``'s grid that will run the keys ``todo``
-    (jobs finished by earlier runs are counted, so the numbers stay right across resumes)."""
-    c = writer.counts()
-    before = c["jobs"] - len(todo)
+def for_planner(planner, n_todo: int, workers: int, enabled: bool) -> Progress:
+    """The progress line of a run whose planner starts with ``n_todo`` jobs to run.
+
+    Jobs finished by earlier runs are counted, so the numbers stay right across resumes. A fixed
+    grid knows its total; an ``F_P: auto`` grid's total grows round by round (the runner adds each
+    new round to ``total``).
+    """
+    c = planner.counts()
+    total = c["jobs"] if planner.fixed else c["jobs"] + n_todo
+    before = total - n_todo
     done = min(c["done"], before)
-    return Progress(c["jobs"], workers, enabled=enabled, done_before=done,
+    return Progress(total, workers, enabled=enabled, done_before=done,
                     failed_before=before - done)
 
 
@@ -107,4 +112,4 @@ def finished_line(output: str, counts: dict) -> str:
     return line
 
 
-__all__ = ["Progress", "for_writer", "nothing_to_run", "finished_line"]
+__all__ = ["Progress", "for_planner", "nothing_to_run", "finished_line"]

@@ -8,12 +8,14 @@ from __future__ import annotations
 
 import logging
 import sys
+from collections import deque
 
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, DiskFull
 from ..model import OperatorCache
 from .control import Interrupted, StopFlag, interrupted_message
 from .execute import execute_task
-from .progress import finished_line, for_writer, nothing_to_run
+from .planner import make_planner
+from .progress import finished_line, for_planner, nothing_to_run
 from .writer import CampaignWriter
 
 log = logging.getLogger(__name__)
@@ -55,18 +57,19 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
     interrupted = False
     full = None
     try:
-        todo = writer.keys_to_run(retry_failed)
-        tasks = order_tasks(spec.tasks(todo))
-        c = writer.counts()
-        log.info("campaign %s: %d jobs, %d to run", spec.campaign_hash[:12], c["jobs"], len(todo))
-        prog = for_writer(writer, todo, 1, progress)
-        if not todo:
-            prog.enabled = False
+        planner = make_planner(spec, writer, retry_failed)
+        tasks = deque(order_tasks(planner.initial()))
+        n_todo = sum(len(t.jobs) for t in tasks)
+        log.info("campaign %s: %d to run", spec.campaign_hash[:12], n_todo)
+        prog = for_planner(planner, n_todo, 1, progress and bool(n_todo))
         ops = OperatorCache()
-        for n, task in enumerate(tasks):
+        n = 0
+        while tasks:
             if stop.stop or (max_tasks is not None and n >= max_tasks):
                 interrupted = stop.stop
                 break
+            task = tasks.popleft()
+            n += 1
             try:
                 recs = execute_task(task, spec.campaign_hash, ops, 0, stop)
             except Interrupted:
@@ -77,9 +80,12 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
             except DiskFull as exc:       # an interruption: the records of this task are lost
                 full = exc
                 break
+            more = planner.after(task, recs)      # F_P: auto: the path's next round
+            tasks.extend(more)
+            prog.total += sum(len(t.jobs) for t in more)
             prog.update(recs, running=0)
         interrupted = interrupted or stop.stop
-        partial = max_tasks is not None and len(tasks) > max_tasks
+        partial = bool(tasks)
         prog.show(force=True)
         prog.finish()
     finally:
@@ -96,8 +102,8 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
     if interrupted or partial:
         print(interrupted_message(spec.output, stop.signum), file=sys.stderr)
         return EXIT_INTERRUPTED
-    c = writer.counts()
-    print(finished_line(spec.output, c) if todo else nothing_to_run(spec.output, c),
+    c = planner.counts()
+    print(finished_line(spec.output, c) if n_todo else nothing_to_run(spec.output, c),
           file=sys.stderr)
     return EXIT_OK if c["failed"] == 0 and c["pending"] == 0 else EXIT_FAILED
 

@@ -8,7 +8,7 @@ A grid YAML is a mapping::
       solver: {fft_threads: 1, max_wall_s: 3600}
     k_tilde: [1, 0.1, 0.01]     # number or list
     sigma_tilde: [0.1, 0.5]     # number or list
-    F_P: [0.5, 1, 2, 4]         # or d_tilde: [...]; number or list
+    F_P: [0.5, 1, 2, 4]         # or d_tilde: [...]; number or list; or auto (see .auto)
     seeds: 10                   # a count (seeds 0..9) or a list of seeds
     group_preloads: true        # jobs sharing (k_tilde, sigma_tilde, seed) share one loading path
 
@@ -90,6 +90,8 @@ class CampaignSpec:
     source: str = ""
     description: str = ""
     jobs: list = field(default_factory=list)
+    #: ``F_P: auto`` settings (:class:`.auto.AutoPreloads`), None for a fixed preload list
+    auto: object = None
 
     # ------------------------------------------------------------------ identity
     def resolved(self) -> dict:
@@ -97,9 +99,10 @@ class CampaignSpec:
         scene = self.base.to_dict()
         for k in SWEPT:
             scene.pop(k, None)
+        pre = list(self.preloads) if self.auto is None else {"auto": self.auto.to_dict()}
         return {"description": self.description, "scene": scene,
                 "k_tilde": list(self.k_tilde), "sigma_tilde": list(self.sigma_tilde),
-                self.preload_kind: list(self.preloads), "seeds": list(self.seeds),
+                self.preload_kind: pre, "seeds": list(self.seeds),
                 "group_preloads": self.group_preloads}
 
     def resolved_yaml(self) -> str:
@@ -108,8 +111,36 @@ class CampaignSpec:
 
     @property
     def campaign_hash(self) -> str:
-        """SHA-256 of the sorted job keys: the identity of the grid."""
-        return campaign_hash_of(j.key for j in self.jobs)
+        """SHA-256 of the sorted job keys; with ``F_P: auto`` (jobs chosen while it runs) of the
+        sorted path keys ``auto:<settings hash>:<key of the path's scene at F_P = 1>``."""
+        if self.auto is None:
+            return campaign_hash_of(j.key for j in self.jobs)
+        from .auto import settings_hash
+
+        h = settings_hash(self.auto)
+        return campaign_hash_of(f"auto:{h}:{self.path_key(p)}" for p in self.paths())
+
+    # ------------------------------------------------------------------ F_P: auto
+    def paths(self) -> list:
+        """The loading paths (k_tilde, sigma_tilde, seed), in grid order."""
+        return [(k, s, seed) for k in self.k_tilde for s in self.sigma_tilde for seed in self.seeds]
+
+    def path_key(self, path) -> str:
+        """Key of the path's scene at F_P = 1 (its identity in an auto grid's campaign hash)."""
+        k, s, seed = path
+        return job_key(self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed, F_P=(1.0,)))
+
+    def auto_task(self, path, preloads) -> Task:
+        """One round of an ``F_P: auto`` path: a task with one ordinary job per preload."""
+        k, s, seed = path
+        base_index = self.paths().index(path) * 1000
+        jobs = []
+        for i, p in enumerate(sorted(preloads)):
+            job = Job("", base_index + i, k, s, "F_P", p, seed)
+            jobs.append(Job(job_key(self.job_scene(job)), job.index, k, s, "F_P", p, seed))
+        scene = self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed,
+                                  F_P=tuple(j.preload for j in jobs))
+        return Task(tuple(jobs), scene)
 
     # ------------------------------------------------------------------ jobs
     def job_scene(self, job: Job) -> Scene:
@@ -206,7 +237,20 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     if ("d_tilde" in data) == ("F_P" in data):
         raise ConfigError("F_P", data.get("F_P"), "give either F_P or d_tilde (one of them)")
     kind = "F_P" if "F_P" in data else "d_tilde"
-    pre = _values(kind, data[kind])
+    auto = None
+    if kind == "F_P" and (data["F_P"] == "auto" or isinstance(data["F_P"], dict)):
+        from .auto import parse
+
+        auto = parse(data["F_P"])
+        pre = ()
+    else:
+        try:
+            pre = _values(kind, data[kind])
+        except ConfigError as exc:
+            if kind != "F_P":
+                raise
+            raise ConfigError(exc.field, exc.value, exc.allowed + "; or auto, or "
+                              "{auto: {settings}} (README, 'Report')") from None
     seeds_v = data.get("seeds", 1)
     if isinstance(seeds_v, bool):
         raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
@@ -229,9 +273,18 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         raise ConfigError("description", desc, "a text")
     spec = CampaignSpec(base=base, k_tilde=ks, sigma_tilde=ss, preload_kind=kind, preloads=pre,
                         seeds=seeds, group_preloads=group, output=output, source=source,
-                        description=desc)
-    check_job_count({"k_tilde": len(ks), "sigma_tilde": len(ss), kind: len(pre),
-                     "seeds": len(seeds)})                 # before enumerating any job
+                        description=desc, auto=auto)
+    counts = {"k_tilde": len(ks), "sigma_tilde": len(ss), "seeds": len(seeds)}
+    if auto is None:
+        counts[kind] = len(pre)
+    check_job_count(counts)                  # before enumerating any job or path
+    if auto is not None:
+        if not group:
+            raise ConfigError("group_preloads", group, "true with F_P: auto (a round is one "
+                              "loading path)")
+        for path in spec.paths():            # validates every path's scene now
+            spec.auto_task(path, auto.start[:1])
+        return spec
     jobs = []
     for k in ks:
         for s in ss:

@@ -34,20 +34,34 @@ class FileStatus:
     corrupt: list = field(default_factory=list)
 
 
-def _grid_jobs(meta: dict, path: str) -> dict | None:
-    """{key: Job} of the grid stored in the file, or None (a merged file may hold several)."""
+def _grid_jobs(meta: dict, path: str, records=()) -> dict | None:
+    """{key: Job} of the grid stored in the file, or None (a merged file may hold several).
+
+    With ``F_P: auto`` the grid's jobs so far: the current round of every unfinished path,
+    replayed from ``records`` (later rounds are not known yet)."""
     try:
         resolved = yaml.safe_load(meta.get("campaign_yaml", ""))
         resolved["output"] = os.path.abspath(path)
-        return {j.key: j for j in spec_from_dict(resolved).jobs}
+        spec = spec_from_dict(resolved)
     except Exception:  # noqa: BLE001 - no single grid: count the records only
         return None
+    if spec.auto is None:
+        return {j.key: j for j in spec.jobs}
+    from .auto import path_todo, results_by_path
+
+    done, failed = results_by_path(records, spec.paths())
+    out = {}
+    for p in spec.paths():
+        todo, _ = path_todo(spec.auto, done[p], False, failed[p])
+        if todo:
+            out.update({j.key: j for j in spec.auto_task(p, todo).jobs})
+    return out
 
 
 def file_status(path: str) -> FileStatus:
     """Done, failed and pending jobs of the file at ``path`` (pending: in its grid, no record)."""
     c = load_campaign(path, curves=False)
-    grid = _grid_jobs(c.meta, path) or {}
+    grid = _grid_jobs(c.meta, path, c.jobs) or {}
     recs = {j["key"]: j for j in c.jobs}
     by_k: dict = {}
     for k in set(recs) | set(grid):
@@ -86,7 +100,9 @@ def plan(spec, retry_failed: bool = False) -> Plan:
     The estimate is the measured mean per job of the finished jobs when there are any, else
     the cost model of :mod:`.estimate`.
     """
-    todo = {j.key for j in spec.jobs}
+    jobs = spec.jobs if spec.auto is None else [    # F_P: auto: its round 0 only
+        j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
+    todo = {j.key for j in jobs}
     done = failed = 0
     walls = []
     if os.path.exists(spec.output):
@@ -103,7 +119,13 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                 failed += k in todo
                 if not retry_failed:
                     todo.discard(k)
-    tasks = spec.tasks(todo)
+    if spec.auto is None:
+        tasks = spec.tasks(todo)
+    else:
+        tasks = [spec.auto_task(p, [j.preload for j in t.jobs if j.key in todo])
+                 for p in spec.paths()
+                 for t in [spec.auto_task(p, spec.auto.start)]
+                 if any(j.key in todo for j in t.jobs)]
     pair_s, m, epp = fft_pair_seconds(spec.base)
     est = sum(task_seconds(t.scene, len(t.jobs), pair_s, epp) for t in tasks)
     how = "model"

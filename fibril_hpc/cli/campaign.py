@@ -53,14 +53,16 @@ def _parser() -> Parser:
     rp = sub.add_parser("report", help="plots and the alpha, beta, sigma_c table")
     rp.add_argument("file")
     rp.add_argument("--out", required=True, metavar="DIR")
-    rp.add_argument("--linear-max", type=float, default=None, metavar="F_P",
-                    help="upper F~_P of the linear stage (default: see README, 'Report')")
-    rp.add_argument("--plateau-tol", type=float, default=0.05, metavar="REL",
-                    help="plateau reached when F~_A changes by less than REL between the two "
-                         "largest preloads (default 0.05)")
-    e = sub.add_parser("export", help="one CSV row per job")
+    rp.add_argument("--law", default="tanh", choices=("tanh", "min"),
+                    help="law fitted per (k~, sigma~): tanh (F~_A = plateau tanh(c F~_P / "
+                         "plateau), the default) or min (min(c F~_P, plateau)); README, 'Report'")
+    rp.add_argument("--n-boot", type=int, default=400, metavar="N",
+                    help="bootstrap resamples over seeds for the intervals (default 400)")
+    e = sub.add_parser("export", help="one row per job: CSV and/or Parquet")
     e.add_argument("file")
-    e.add_argument("--csv", required=True, metavar="OUT.csv")
+    e.add_argument("--csv", metavar="OUT.csv", help="write a CSV file")
+    e.add_argument("--parquet", metavar="OUT.parquet",
+                   help="write a Parquet file (needs pandas and pyarrow: the 'report' extra)")
     m = sub.add_parser("merge", help="merge campaign files into a new one")
     m.add_argument("files", nargs="+")
     m.add_argument("-o", "--output", required=True, metavar="ALL.h5")
@@ -156,10 +158,18 @@ def _print_plan(spec, retry_failed: bool) -> None:
     from ..campaign.status import plan
 
     pl = plan(spec, retry_failed)
-    print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
-          f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
-          f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds), "
-          f"{len(spec.tasks())} loading paths")
+    if spec.auto is None:
+        print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
+              f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
+              f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds), "
+              f"{len(spec.tasks())} loading paths")
+    else:
+        a = spec.auto
+        print(f"campaign {spec.campaign_hash[:12]}: F_P auto, {len(spec.paths())} loading paths "
+              f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
+              f"{len(spec.seeds)} seeds); round 0: F_P = {', '.join(f'{x:g}' for x in a.start)}; "
+              f"up to {a.rounds - 1} more rounds until {a.below} preloads lie below the kink and "
+              f"{a.above} above it (the counts and cost below are round 0's)")
     print(f"output {spec.output}: {pl.done} done, {pl.failed} failed, {len(pl.to_run)} to run "
           f"in {len(pl.tasks)} simulate calls")
     print(f"grid: {spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "
@@ -204,13 +214,25 @@ def cmd_status(args) -> int:
 
 # ------------------------------------------------------------------------------------ export
 def cmd_export(args) -> int:
-    """Write one CSV row per job."""
-    from ..campaign.export import export_csv
+    """Write one row per job as CSV and/or Parquet."""
+    from ..campaign.export import export_csv, export_parquet, parquet_available
 
     _existing(args.file, "file")
-    check_writable(args.csv, "--csv")
-    n = export_csv(args.file, args.csv)
-    print(f"{args.csv}: {n} jobs")
+    if not (args.csv or args.parquet):
+        raise ConfigError("export", None, "--csv OUT.csv and/or --parquet OUT.parquet")
+    for opt, path in (("--csv", args.csv), ("--parquet", args.parquet)):
+        if path:
+            check_writable(path, opt)
+    if args.parquet and not parquet_available():
+        raise ConfigError("--parquet", args.parquet,
+                          "a Parquet output with pandas and pyarrow installed "
+                          "(pip install 'fibril-hpc[report]'), or --csv")
+    if args.csv:
+        n = export_csv(args.file, args.csv)
+        print(f"{args.csv}: {n} jobs")
+    if args.parquet:
+        n = export_parquet(args.file, args.parquet)
+        print(f"{args.parquet}: {n} jobs")
     return EXIT_OK
 
 
@@ -270,10 +292,8 @@ def cmd_report(args) -> int:
 
     _existing(args.file, "file")
     check_output_folder(args.out, "--out")
-    if args.linear_max is not None and not (args.linear_max > 0):
-        raise ConfigError("--linear-max", args.linear_max, "a number > 0")
-    if not (0 < args.plateau_tol < 1):
-        raise ConfigError("--plateau-tol", args.plateau_tol, "a number in (0, 1)")
+    if not 20 <= args.n_boot <= 100000:
+        raise ConfigError("--n-boot", args.n_boot, "an integer in [20, 100000]")
     try:
         os.makedirs(args.out, exist_ok=True)
     except OSError as exc:
@@ -281,8 +301,7 @@ def cmd_report(args) -> int:
             from None
     if not os.access(args.out, os.W_OK):
         raise ConfigError("--out", args.out, "a writable folder")
-    files = write_report(args.file, args.out, linear_max=args.linear_max,
-                         plateau_tol=args.plateau_tol)
+    files = write_report(args.file, args.out, law=args.law, n_boot=args.n_boot)
     for f in files:
         print(f)
     return EXIT_OK
