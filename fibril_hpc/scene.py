@@ -113,6 +113,11 @@ class SolverOptions:
         are serial; BLAS (block preconditioner) follows ``OPENBLAS_NUM_THREADS``.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
+    cascade : str
+        How a detachment/attachment cascade at fixed d is solved (does not define the result:
+        both reach the same fixed point, tested): ``"local"`` (default: the pillars whose set
+        changed are solved directly with the rest of the grid held, then one global solve
+        confirms) or ``"global"`` (the reference: a global solve per pass).
     """
 
     cg_tol: float = 1e-8
@@ -127,6 +132,7 @@ class SolverOptions:
     fft_backend: str = "pyfftw"
     fft_threads: int | None = None
     fft_planner: str = "estimate"
+    cascade: str = "local"
 
     def __post_init__(self):
         tol = _as_float("solver.cg_tol", self.cg_tol, "a number in (0, 1e-2]")
@@ -164,6 +170,8 @@ class SolverOptions:
         if self.fft_planner not in ("estimate", "measure", "patient"):
             raise ConfigError("solver.fft_planner", self.fft_planner,
                               "'estimate', 'measure' or 'patient'")
+        if self.cascade not in ("local", "global"):
+            raise ConfigError("solver.cascade", self.cascade, "'local' or 'global'")
 
     @property
     def threads(self) -> int:
