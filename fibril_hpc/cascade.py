@@ -51,6 +51,7 @@ class LocalCascade:
         self.inv_k = 0.0 if model.rigid else 1.0 / model.k
         self.max_elements = int(max_elements)
         self.local_solves = 0
+        self._lab = None
 
     def elements(self, groups):
         """(element indices, local starts) of ``groups``, or None if there are too many."""
@@ -97,18 +98,31 @@ class LocalCascade:
         x[idx] = self._solve_set(K, same, att[idx] != 0, b[idx] - u_far)
         return idx
 
-    def cascade(self, groups, d, b, p, p_ref, u, att, sigma_c, tol_p, tol_g, worst_only,
-                max_passes: int = 10_000):
+    def cascade(self, groups, d, b, p, p_ref, u, g, att, sigma_c, tol_p, tol_g, worst_only,
+                precond, max_passes: int = 10_000):
         """Local detachment/attachment cascade at plate displacement d on ``groups``.
 
-        Solves, updates the local contact set with the global rule, repeats until it stops
-        changing; writes p and att of the local elements. Returns the number of local passes,
-        or None (nothing changed) when the groups are too large for a dense solve.
+        Each pass solves the local pillars with the rest held and proposes the flips of the
+        global update rule on them. The proposal is *trusted* only if the coupling the held far
+        field would add cannot change any decision: the change of u everywhere caused by the
+        local pressure change since the last global solve is summed directly, the far pillars'
+        response to it estimated by one block-Jacobi step (``precond``: the CG preconditioner,
+        exact per pillar), and that response's feedback on the local pillars by another; every
+        element's distance to its threshold (``p = -sigma_c - tol_p`` attached, ``g = -tol_g``
+        free) must exceed ``SAFETY`` times its estimated change. A trusted proposal is applied
+        and the next pass runs; an untrusted one is dropped (its pressures are kept as the next
+        global solve's start) and the caller's global solve decides, as in the reference
+        cascade. ``p`` and ``att`` of the local elements are written; ``u`` (= K p_ref) and
+        ``g`` (the far elements' gaps) are only read.
+
+        Returns (passes applied, reached a local fixed point) or None when the groups are too
+        large for a dense solve.
         """
         el = self.elements(groups)
         if el is None:
             return None
         idx, lstarts = el
+        n = len(p)
         K = self._matrix(idx)
         lab = np.repeat(np.arange(len(lstarts) - 1), np.diff(lstarts))
         same = (lab[:, None] == lab[None, :]).astype(np.float64)
@@ -119,17 +133,85 @@ class LocalCascade:
         ng = len(lstarts) - 1
         f = np.zeros(ng)
         dl = np.zeros(ng)
-        g = np.empty(len(idx))
-        for n in range(1, max_passes + 1):
+        g_l = np.empty(len(idx))
+        thr = -(sigma_c + tol_p)
+        far = np.ones(n, dtype=bool)
+        far[idx] = False
+        far_att = np.flatnonzero(far & (att != 0))
+        far_free = np.flatnonzero(far & (att == 0))
+        m_far_att = p[far_att] - thr
+        m_far_free = g[far_free] + tol_g
+        table = self.model.operator.table
+        applied = 0
+        fixed = False
+        p_l = p[idx].copy()
+        for _ in range(max_passes):
             p_l = self._solve_set(K, same, att_l != 0, rhs)
             u_l = u_far + K @ p_l
             kern.group_sums(p_l, att_l, lstarts, f)
             np.multiply(f, self.h2 * self.inv_k, out=dl)
-            kern.gaps(u_l, lstarts, z0, 1.0, d, dl, g)
-            nd, na = kern.update_contact_set(p_l, g, att_l, lstarts, sigma_c, tol_p, tol_g,
+            kern.gaps(u_l, lstarts, z0, 1.0, d, dl, g_l)
+            p_try, att_try = p_l.copy(), att_l.copy()
+            nd, na = kern.update_contact_set(p_try, g_l, att_try, lstarts, sigma_c, tol_p, tol_g,
                                              worst_only)
             if nd == 0 and na == 0:
+                fixed = True
                 break
+            if not self._trusted(idx, lstarts, K, same, att_l, p_l, g_l, p_ref, att, far_att,
+                                 far_free, m_far_att, m_far_free, thr, tol_g, precond, table):
+                break
+            p_l, att_l = p_try, att_try
+            applied += 1
         p[idx] = p_l
         att[idx] = att_l
-        return n
+        return applied, fixed
+
+    #: a decision is trusted when its margin exceeds this multiple of its estimated change
+    SAFETY = 4.0
+
+    def _trusted(self, idx, lstarts, K, same, att_l, p_l, g_l, p_ref, att, far_att, far_free,
+                 m_far_att, m_far_free, thr, tol_g, precond, table) -> bool:
+        n = len(p_ref)
+        iy, ix = self.iy, self.ix
+        dp = p_l - p_ref[idx]
+        src = np.flatnonzero(dp)
+        du = np.zeros(n)
+        kern.point_loads(du, iy, ix, idx[src], dp[src], table)
+        # far pillars' first-order response (their exact blocks, the rest held)
+        r = np.zeros(n)
+        r[far_att] = -du[far_att]
+        dp_far = np.zeros(n)
+        precond.update(att)
+        precond.apply(r, att, dp_far)
+        dp_far[idx] = 0.0
+        fsum = np.zeros(len(self.starts) - 1)
+        kern.group_sums(dp_far, att, self.starts, fsum)
+        dg_far = du[far_free] + (fsum * self.h2 * self.inv_k)[self._labels()[far_free]]
+        S = self.SAFETY
+        if np.any(np.abs(m_far_att) <= S * np.abs(dp_far[far_att])) or \
+                np.any(np.abs(m_far_free) <= S * np.abs(dg_far)):
+            return False
+        # feedback of that response on the local pillars (their exact blocks again)
+        src = np.flatnonzero(dp_far)
+        du_l = np.zeros(len(idx))
+        kern.point_loads_at(du_l, idx, iy, ix, src, dp_far[src], table)
+        on = att_l != 0
+        dpl = np.zeros(len(idx))
+        s = np.flatnonzero(on)
+        if len(s):
+            M = K[np.ix_(s, s)]
+            if self.alpha != 0.0:
+                M = M + self.alpha * same[np.ix_(s, s)]
+            dpl[s] = -np.linalg.solve(M, du_l[s])
+        f = np.zeros(len(lstarts) - 1)
+        kern.group_sums(dpl, att_l, lstarts, f)
+        dgl = du_l + K @ dpl + np.repeat(f * self.h2 * self.inv_k, np.diff(lstarts))
+        m_att = p_l[on] - thr
+        m_free = g_l[~on] + tol_g
+        return not (np.any(np.abs(m_att) <= S * np.abs(dpl[on]))
+                    or np.any(np.abs(m_free) <= S * np.abs(dgl[~on])))
+
+    def _labels(self):
+        if self._lab is None:
+            self._lab = np.repeat(np.arange(len(self.starts) - 1), np.diff(self.starts))
+        return self._lab

@@ -173,11 +173,17 @@ class PathDriver:
         loose = max(m.options.relax_tol, m.options.cg_tol)
         tight = True
         for _ in range(_MAX_RELAX_PASSES):
-            tol = None if tight else loose
             if self.local is not None:
                 groups = self._changed_groups(self.p, self.p_ref, self.att_ref)
                 if len(groups):
-                    self.local.solve(groups, self._b, self.p, self.p_ref, self.u, self.att)
+                    out = self.local.cascade(groups, self.d, self._b, self.p, self.p_ref, self.u,
+                                             self.g, self.att, m.sigma_c, self.tol_p, self.tol_g,
+                                             self.worst_only, m.solver.precond)
+                    if out is None:         # too many pillars for dense solves: predict nothing
+                        pass
+                    elif out[0] and loose != m.options.cg_tol:
+                        tight = False       # the set changed: an intermediate pass
+            tol = None if tight else loose
             self._solve(self._b, self.p, self.u, self.p_ref, tol)
             self.att_ref[:] = self.att
             self._forces(self.p, self.f)
