@@ -33,13 +33,14 @@ class LocalCascade:
     ----------
     model : Model
         Supplies geometry, operator (its real-space influence table), spring stiffness.
-    max_elements : int
+    max_elements : int or None
         Largest number of elements (attached or not) of the local pillars handled directly; a
         larger change returns ``None`` from :meth:`elements` and the caller falls back to global
-        solves.
+        solves. Default: where a dense solve (s^3/3 multiply-adds) costs about as much as 3 FFT
+        pairs (~5 m^2 log2 m each), but at least two pillars.
     """
 
-    def __init__(self, model, max_elements: int = 1200):
+    def __init__(self, model, max_elements: int | None = None):
         self.model = model
         g = model.geometry
         self.starts = g.starts
@@ -49,6 +50,10 @@ class LocalCascade:
         self.h2 = g.h * g.h
         self.alpha = 0.0 if model.rigid else g.h * g.h / model.k
         self.inv_k = 0.0 if model.rigid else 1.0 / model.k
+        if max_elements is None:
+            m = model.operator.m
+            biggest = int(np.diff(self.starts).max()) if len(self.starts) > 1 else 1
+            max_elements = max(2 * biggest, int((45.0 * m * m * np.log2(m)) ** (1.0 / 3.0)))
         self.max_elements = int(max_elements)
         self.local_solves = 0
         self._lab = None

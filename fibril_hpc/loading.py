@@ -179,10 +179,10 @@ class PathDriver:
                     out = self.local.cascade(groups, self.d, self._b, self.p, self.p_ref, self.u,
                                              self.g, self.att, m.sigma_c, self.tol_p, self.tol_g,
                                              self.worst_only, m.solver.precond)
-                    if out is None:         # too many pillars for dense solves: predict nothing
-                        pass
-                    elif out[0] and loose != m.options.cg_tol:
-                        tight = False       # the set changed: an intermediate pass
+                    if out is not None and out[0]:
+                        # the set changed: a local fixed point is confirmed at full tolerance
+                        # at once; an untrusted proposal is an intermediate (loose) pass
+                        tight = out[1] or loose == m.options.cg_tol
             tol = None if tight else loose
             self._solve(self._b, self.p, self.u, self.p_ref, tol)
             self.att_ref[:] = self.att
