@@ -57,6 +57,7 @@ class LocalCascade:
         self.max_elements = int(max_elements)
         self.local_solves = 0
         self._lab = None
+        self._cen = None
 
     def elements(self, groups):
         """(element indices, local starts) of ``groups``, or None if there are too many."""
@@ -123,6 +124,7 @@ class LocalCascade:
         Returns (passes applied, reached a local fixed point) or None when the groups are too
         large for a dense solve.
         """
+        groups = np.asarray(groups, dtype=np.int64)
         el = self.elements(groups)
         if el is None:
             return None
@@ -162,7 +164,7 @@ class LocalCascade:
             if nd == 0 and na == 0:
                 fixed = True
                 break
-            if not self._trusted(idx, lstarts, K, same, att_l, p_l, g_l, p_ref, att, far_att,
+            if not self._trusted(groups, idx, lstarts, K, same, att_l, p_l, g_l, p_ref, att, far_att,
                                  far_free, m_far_att, m_far_free, thr, tol_g, precond, table):
                 break
             p_l, att_l = p_try, att_try
@@ -174,14 +176,60 @@ class LocalCascade:
     #: a decision is trusted when its margin exceeds this multiple of its estimated change
     SAFETY = 4.0
 
-    def _trusted(self, idx, lstarts, K, same, att_l, p_l, g_l, p_ref, att, far_att, far_free,
-                 m_far_att, m_far_free, thr, tol_g, precond, table) -> bool:
+    #: pillars whose centre lies within this many pillar radii of a local pillar's centre get the
+    #: exact direct sums in the trust test; farther ones the point-force (monopole) field
+    NEAR = 10.0
+
+    def _centres(self):
+        if self._cen is None:
+            lab = self._labels()
+            cnt = np.maximum(np.bincount(lab, minlength=len(self.starts) - 1), 1)
+            cy = np.bincount(lab, weights=self.iy, minlength=len(cnt)) / cnt
+            cx = np.bincount(lab, weights=self.ix, minlength=len(cnt)) / cnt
+            rad = np.sqrt((self.iy - cy[lab]) ** 2 + (self.ix - cx[lab]) ** 2)
+            rmax = float(rad.max()) + 1.0 if len(rad) else 1.0
+            self._cen = (cy, cx, rmax)
+        return self._cen
+
+    def _monopole(self, ty, tx, cy, cx, forces):
+        """Point-force field sum_b forces[b] h^2 / (pi E* r) at targets (element units)."""
+        from .scaling import E_STAR
+
+        if len(forces) == 0 or len(ty) == 0:
+            return np.zeros(len(ty))
+        r = np.hypot(ty[:, None] - cy[None, :], tx[:, None] - cx[None, :])
+        h = self.model.geometry.h
+        return (forces[None, :] / np.maximum(r, 0.5)).sum(axis=1) * (h / (np.pi * E_STAR))
+
+    def _trusted(self, groups, idx, lstarts, K, same, att_l, p_l, g_l, p_ref, att, far_att,
+                 far_free, m_far_att, m_far_free, thr, tol_g, precond, table) -> bool:
         n = len(p_ref)
         iy, ix = self.iy, self.ix
+        lab = self._labels()
+        cy, cx, rmax = self._centres()
+        ng = len(self.starts) - 1
+        # groups near the local ones: exact direct sums; the others: monopole fields
+        dist = np.full(ng, np.inf)
+        for q in groups:
+            dist = np.minimum(dist, np.hypot(cy - cy[q], cx - cx[q]))
+        local = np.zeros(ng, dtype=bool)
+        local[groups] = True
+        near_g = ~local & (dist <= self.NEAR * rmax)
+        far_g = ~local & ~near_g
+        near_el = np.flatnonzero(near_g[lab])
+        far_el = np.flatnonzero(far_g[lab])
         dp = p_l - p_ref[idx]
         src = np.flatnonzero(dp)
         du = np.zeros(n)
-        kern.point_loads(du, iy, ix, idx[src], dp[src], table)
+        if len(near_el):
+            tmp = np.zeros(len(near_el))
+            kern.point_loads_at(tmp, near_el, iy, ix, idx[src], dp[src], table)
+            du[near_el] = tmp
+        if len(far_el):
+            lg = np.repeat(np.arange(len(groups)), np.diff(lstarts))
+            dF = np.bincount(lg, weights=dp, minlength=len(groups))
+            du[far_el] = self._monopole(iy[far_el].astype(float), ix[far_el].astype(float),
+                                        cy[groups], cx[groups], dF)
         # far pillars' first-order response (their exact blocks, the rest held)
         r = np.zeros(n)
         r[far_att] = -du[far_att]
@@ -189,17 +237,22 @@ class LocalCascade:
         precond.update(att)
         precond.apply(r, att, dp_far)
         dp_far[idx] = 0.0
-        fsum = np.zeros(len(self.starts) - 1)
+        fsum = np.zeros(ng)
         kern.group_sums(dp_far, att, self.starts, fsum)
-        dg_far = du[far_free] + (fsum * self.h2 * self.inv_k)[self._labels()[far_free]]
+        dg_far = du[far_free] + (fsum * self.h2 * self.inv_k)[lab[far_free]]
         S = self.SAFETY
         if np.any(np.abs(m_far_att) <= S * np.abs(dp_far[far_att])) or \
                 np.any(np.abs(m_far_free) <= S * np.abs(dg_far)):
             return False
         # feedback of that response on the local pillars (their exact blocks again)
-        src = np.flatnonzero(dp_far)
         du_l = np.zeros(len(idx))
-        kern.point_loads_at(du_l, idx, iy, ix, src, dp_far[src], table)
+        srcn = near_el[dp_far[near_el] != 0.0]
+        if len(srcn):
+            kern.point_loads_at(du_l, idx, iy, ix, srcn, dp_far[srcn], table)
+        fg = np.flatnonzero(far_g)
+        if len(fg):
+            du_l += self._monopole(iy[idx].astype(float), ix[idx].astype(float), cy[fg], cx[fg],
+                                   np.bincount(lab, weights=dp_far, minlength=ng)[fg])
         on = att_l != 0
         dpl = np.zeros(len(idx))
         s = np.flatnonzero(on)

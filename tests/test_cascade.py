@@ -25,6 +25,8 @@ CASES = [
     dict(n_side=4, elements_per_diameter=6, k_tilde=1.0, sigma_tilde=0.07, F_P=(2.0, 6.0)),
     dict(n_side=4, elements_per_diameter=6, k_tilde=math.inf, sigma_tilde=0.0),
     dict(n_side=4, elements_per_diameter=5, k_tilde=10.0, sigma_tilde=1.0, d_tilde=(1.5,)),
+    # 7 x 7 at 4 elements per diameter: pillars beyond LocalCascade.NEAR radii exist (monopole)
+    dict(n_side=7, elements_per_diameter=4, k_tilde=0.01, sigma_tilde=0.5),
 ]
 
 
