@@ -84,6 +84,11 @@ class SolverOptions:
         follows ``OPENBLAS_NUM_THREADS``.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
+    cascade : str
+        How a detachment/attachment cascade at fixed d is solved (does not define the result:
+        both reach the same fixed point, tested): ``"local"`` (default: the pillars whose set
+        changed are solved directly with the rest of the grid held, then one global solve
+        confirms) or ``"global"`` (the reference: a global solve per pass).
     """
 
     cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
@@ -100,6 +105,7 @@ class SolverOptions:
                                    "threads")
     fft_planner: str = _opt("estimate", "backend", Choice(("estimate", "measure", "patient")),
                             "planner")
+    cascade: str = _opt("local", "backend", Choice(("local", "global")))
 
     def __post_init__(self):
         check_fields(self, "solver.")

@@ -262,3 +262,23 @@ def point_loads(u, iy, ix, idx, vals, table):
             if dx < 0:
                 dx = -dx
             u[j] += v * table[dy, dx]
+
+
+@jit
+def point_loads_at(out, tgt, iy, ix, idx, vals, table):
+    """out[t] += sum_k vals[k] K(x_tgt[t] - x_idx[k]) for the target elements ``tgt`` only."""
+    for t in range(len(tgt)):
+        j = tgt[t]
+        yj = iy[j]
+        xj = ix[j]
+        s = 0.0
+        for k in range(len(idx)):
+            i = idx[k]
+            dy = iy[i] - yj
+            dx = ix[i] - xj
+            if dy < 0:
+                dy = -dy
+            if dx < 0:
+                dx = -dx
+            s += vals[k] * table[dy, dx]
+        out[t] += s

@@ -125,3 +125,9 @@ def update_contact_set(p, g, att, starts, sigma_c, tol_p, tol_g, worst_only):
 def point_loads(u, iy, ix, idx, vals, table):
     for i, v in zip(idx, vals):
         u += v * table[np.abs(iy - iy[i]), np.abs(ix - ix[i])]
+
+
+def point_loads_at(out, tgt, iy, ix, idx, vals, table):
+    """out[t] += sum_k vals[k] K(x_tgt[t] - x_idx[k]) for the target elements ``tgt`` only."""
+    for t, j in enumerate(tgt):
+        out[t] += np.dot(vals, table[np.abs(iy[idx] - iy[j]), np.abs(ix[idx] - ix[j])])
