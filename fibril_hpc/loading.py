@@ -364,6 +364,7 @@ class PathDriver:
         if on_batch is not None:
             on_batch(last)
         self.move(last, sgn)
+        anchor = None if self.settle is None else self.anchor()
         # elements at their event (to rounding): remaining distance <= a hair
         hair = 1e-12 * self.model.scaling.d_c + 1e-12 * (abs(dist) + last)
         if kern.flip_events(self.p, self.p1, self.g, self.g1, self.att, self.model.sigma_c,
@@ -371,10 +372,18 @@ class PathDriver:
             raise NoConvergenceError(f"no element flipped at a located event (d = {self.d:.6g})")
         self._count_event()
         self.relax()
+        fresh = False if self.settle is None else self.settle(sgn, anchor)
         self.record(curve)
         if on_point is not None:
             on_point()
-        self.solve_direction()
+        if not fresh:
+            self.solve_direction()
+
+    #: hook of a compliant loading machine (:class:`~fibril_hpc.machine.MachineDriver`): after an
+    #: event's relaxation, ``settle(sgn, anchor) -> bool`` moves the plate to where the machine
+    #: holds it (and says whether the direction is solved there); None: displacement control,
+    #: nothing to do
+    settle = None
 
     def solve_at(self, d: float) -> None:
         """Equilibrium at plate displacement ``d`` by a plain active-set iteration from no contact

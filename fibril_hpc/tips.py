@@ -14,7 +14,6 @@ shaped tip attaches when its own gap closes.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
