@@ -1,10 +1,14 @@
 """A rough cost estimate for ``--dry-run`` (no job runs).
 
-cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid). Seconds per pair
-are timed here on the campaign's own grid (about a second); pairs per task are modelled as
-``PAIRS_PER_PILLAR_ELEMENT`` x pillars x sqrt(elements per pillar) x (1 + 0.15 (preloads - 1)),
-a fit to measured tasks of this solver (benchmarks/paper_cost.py prints the measured counts);
-expect it to be off by a factor of about 2-3 either way. When the output file already holds
+cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid) x ``OVERHEAD``.
+Seconds per pair are timed here on the campaign's own grid (about a second); ``OVERHEAD`` is the
+all-in CPU per pair of a whole curve over the bare pair (CG, event search, local cascades); pairs
+per task are modelled as ``PAIRS_PER_PILLAR_ELEMENT`` x pillars x sqrt(elements per pillar) x
+(1 + ``PAIRS_PER_EXTRA_PRELOAD`` (preloads - 1)), fitted to measured curves of this solver (local
+cascades, default preset): 6 x 6 and 8 x 8 brushes at (k~, sigma~) = (0.01, 0.5), (1, 0.07),
+(0.001, 2.1), (10, 0.07) with one preload (F~_P = 4: 2.0-4.9 per pillar sqrt element) and the
+paper grid's 12 (13.6-29.4), and the default 18 x 18 scene (4.5 with one preload); expect it to
+be off by up to ~1.7x either way on single tasks, less on a whole grid. When the output file already holds
 finished jobs, their measured mean wall time per task is used instead.
 """
 
@@ -15,8 +19,12 @@ import time
 
 import numpy as np
 
-#: FFT pairs per pillar per sqrt(element per pillar), from benchmarks/paper_cost.py
-PAIRS_PER_PILLAR_ELEMENT = 30.0
+#: FFT pairs per pillar per sqrt(element per pillar) of a one-preload task (see the docstring)
+PAIRS_PER_PILLAR_ELEMENT = 4.0
+#: growth of the pairs per extra preload of a task (12 preloads measured 5.5-6.1x one)
+PAIRS_PER_EXTRA_PRELOAD = 0.45
+#: all-in CPU per FFT pair of a curve over the bare timed pair (measured ~1.5-1.6)
+OVERHEAD = 1.5
 
 
 def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
@@ -42,5 +50,5 @@ def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
 def task_seconds(scene, n_preloads: int, pair_s: float, elements_per_pillar: int) -> float:
     """Modelled seconds of one task of ``n_preloads`` preloads (see the module docstring)."""
     pairs = (PAIRS_PER_PILLAR_ELEMENT * scene.n_side ** 2 * math.sqrt(elements_per_pillar)
-             * (1 + 0.15 * (n_preloads - 1)))
-    return pairs * pair_s
+             * (1 + PAIRS_PER_EXTRA_PRELOAD * (n_preloads - 1)))
+    return pairs * pair_s * OVERHEAD
