@@ -46,10 +46,11 @@ def load_scene(path: str) -> Scene:
     data = read_yaml(path)
     if data is None:
         data = {}
-    if isinstance(data, dict) and is_height_file(data.get("heights")):
-        # a measured height file is named relative to the scene file's folder
-        data = {**data, "heights": os.path.join(os.path.dirname(os.path.abspath(path)),
-                                                os.path.expanduser(data["heights"]))}
+    for key in ("heights", "k_law"):
+        if isinstance(data, dict) and is_height_file(data.get(key)):
+            # a measured height/stiffness file is named relative to the scene file's folder
+            data = {**data, key: os.path.join(os.path.dirname(os.path.abspath(path)),
+                                              os.path.expanduser(data[key]))}
     return scene_from_dict(data)
 
 

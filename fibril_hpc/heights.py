@@ -1,4 +1,4 @@
-"""Pillar height laws and measured height files (docs/model.md §1).
+"""Pillar height and stiffness laws, and measured files of either (docs/model.md §9).
 
 A scene's ``heights`` is a law name or the per-pillar lengths themselves:
 
@@ -30,10 +30,53 @@ import numpy as np
 
 from .errors import ConfigError
 from .grid import pillar_heights
+from .ranges import as_float
 
 #: Height laws (``Scene.heights`` may also be a file or a list of lengths).
 HEIGHT_LAWS = ("gaussian", "exponential", "uniform")
 HEIGHT_FILES = (".csv", ".npy")
+
+
+#: Per-pillar stiffness laws besides the per-pillar values themselves (``Scene.k_law``).
+K_LAWS = ("one", "lognormal")
+
+
+class KLawRange:
+    """The allowed values of ``k_law``: ``one``, ``lognormal``, a file or a list of k~ > 0."""
+
+    def allowed(self, plural: bool = False) -> str:  # noqa: ARG002
+        """The text of the allowed values."""
+        return ("'one' (every pillar k_tilde), 'lognormal', a .csv or .npy file of per-pillar "
+                "k_tilde, or a list of them (> 0, one per pillar)")
+
+    def check(self, name: str, v):
+        """A law name, or the per-pillar values as a tuple of floats."""
+        if isinstance(v, str):
+            if v in K_LAWS:
+                return v
+            raise ConfigError(name, v, self.allowed())
+        if isinstance(v, np.ndarray):
+            v = v.tolist()
+        if not isinstance(v, (list, tuple)) or not v:
+            raise ConfigError(name, v, self.allowed())
+        out = [as_float(name, x, self.allowed()) for x in v]
+        for x in out:
+            if not (0 < x < math.inf):
+                raise ConfigError(name, x, self.allowed())
+        return tuple(out)
+
+
+def pillar_stiffness(k_tilde: float, law, spread: float, n: int, seed: int):
+    """k~ of the pillars: the number ``k_tilde`` itself for ``one`` (no per-pillar array), else an
+    array: ``lognormal``, k~_n = k_tilde exp(spread z_n) with z_n standard normal from the stream
+    ``PCG64(seed).jumped()`` (independent of the height draws; median k_tilde), or the given
+    values."""
+    if isinstance(law, str):
+        if law == "one":
+            return k_tilde
+        rng = np.random.Generator(np.random.PCG64(seed).jumped())
+        return k_tilde * np.exp(spread * rng.standard_normal(n))
+    return np.asarray(law, dtype=np.float64)
 
 
 class HeightsRange:
@@ -69,8 +112,9 @@ def is_file(v) -> bool:
 
 
 def read_file(path: str, name: str = "heights") -> tuple[tuple, str]:
-    """(lengths, "path sha256:HEX") of a height file; any problem is a one-line ConfigError."""
-    allowed = HeightsRange().allowed()
+    """(values, "path sha256:HEX") of a height (or stiffness) file; any problem is a one-line
+    ConfigError."""
+    allowed = (HeightsRange() if name == "heights" else KLawRange()).allowed()
     full = os.path.expanduser(path)
     if not os.path.isfile(full):
         raise ConfigError(name, path, "an existing file: " + allowed)
@@ -88,9 +132,10 @@ def read_file(path: str, name: str = "heights") -> tuple[tuple, str]:
     except (OSError, ValueError, UnicodeDecodeError) as exc:
         raise ConfigError(name, path, f"a readable file of numbers ({exc.__class__.__name__}): "
                           + allowed) from None
-    bad = ~np.isfinite(values) | (values < 0)
+    bad = ~np.isfinite(values) | ((values < 0) if name == "heights" else (values <= 0))
     if bad.any():
-        raise ConfigError(name, path, f"finite lengths >= 0 (value {values[bad][0]!r} at pillar "
+        what = "finite lengths >= 0" if name == "heights" else "finite stiffnesses > 0"
+        raise ConfigError(name, path, f"{what} (value {values[bad][0]!r} at pillar "
                           f"{int(np.flatnonzero(bad)[0])})")
     if not len(values):
         raise ConfigError(name, path, "one length per pillar (the file is empty)")
@@ -121,4 +166,5 @@ def setbacks(heights, heights_d_c, n: int, sigma: float, seed: int, d_c: float) 
     return xi, (xi.max() - xi) * d_c
 
 
-__all__ = ["HEIGHT_LAWS", "HeightsRange", "is_file", "read_file", "draws", "setbacks"]
+__all__ = ["HEIGHT_LAWS", "K_LAWS", "HeightsRange", "KLawRange", "is_file", "read_file", "draws",
+           "setbacks", "pillar_stiffness"]

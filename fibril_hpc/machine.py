@@ -1,4 +1,4 @@
-"""A compliant loading machine: the machine's end is driven, the plate follows (docs/model.md §6).
+"""A compliant loading machine: the machine's end is driven, the plate follows (docs/model.md §6, §9).
 
 The load train between the driven end (displacement Delta) and the backing plate (displacement d)
 is a spring of stiffness k_m, so in equilibrium the plate force is F = k_m (Delta - d) and

@@ -196,7 +196,7 @@ class Scene:
     lattice : str
         ``square`` (default) or ``hexagonal`` (n_side pillars per row, n_side rows, every other
         row shifted by half a pitch; phi is the pillar area over the unit cell s**2 sqrt(3)/2 and
-        the pitch s the nearest-neighbour distance, as for the square lattice; docs/model.md §1).
+        the pitch s the nearest-neighbour distance, as for the square lattice; docs/model.md §9).
         The discrete filling ratio is reported as ``phi_discrete``.
     heights : str or tuple of float
         Pillar length law, ``gaussian`` (default), ``exponential`` or ``uniform`` (each of
@@ -206,6 +206,14 @@ class Scene:
         ``None`` (default): measured lengths are in units of d_c; else d_c in the file's unit.
     heights_source : str
         Set when the lengths come from a file: its name and SHA-256 (not part of job keys).
+    k_law : str or tuple of float
+        Per-pillar stiffness: ``one`` (default: every pillar ``k_tilde``), ``lognormal``
+        (k~_n = k_tilde exp(k_spread z_n), z_n standard normal from its own stream of the seed;
+        median ``k_tilde``), or per-pillar k~ values: a ``.csv``/``.npy`` file or a list.
+    k_spread : float
+        Standard deviation of ln k~ of the ``lognormal`` law. Default 0. Range [0, 10].
+    k_source : str
+        Set when the stiffnesses come from a file: its name and SHA-256 (not part of job keys).
     tip : str
         ``flat`` (default), ``sphere`` (a spherical cap) or ``rounded`` (a flat tip with a
         rounded edge); :mod:`fibril_hpc.tips`.
@@ -235,6 +243,9 @@ class Scene:
     heights_d_c: float | None = _lab(None, Real(0, lo_open=True, hi_open=True,
                                                 none="null (lengths in units of d_c)"))
     heights_source: str = _lab("", None, key=False)
+    k_law: str | tuple = _lab("one", _heights.KLawRange())
+    k_spread: float = _lab(0.0, Real(0, 10))
+    k_source: str = _lab("", None, key=False)
     tip: str = _lab("flat", Choice(_tips.TIPS))
     tip_radius: float | None = _lab(None, Real(0, lo_open=True, hi_open=True, none="null"))
     k_machine: float = _lab(math.inf, Real(0, lo_open=True,
@@ -246,8 +257,13 @@ class Scene:
             values, source = _heights.read_file(self.heights)
             set_("heights", values)
             set_("heights_source", source)
-        if not isinstance(self.heights_source, str):
-            raise ConfigError("heights_source", self.heights_source, "a text")
+        if _heights.is_file(self.k_law):
+            values, source = _heights.read_file(self.k_law, "k_law")
+            set_("k_law", values)
+            set_("k_source", source)
+        for name in ("heights_source", "k_source"):
+            if not isinstance(getattr(self, name), str):
+                raise ConfigError(name, getattr(self, name), "a text")
         pv = preset_values(Choice(PRESET_NAMES).check("preset", self.preset))
         if self.elements_per_diameter is None:      # the preset fills what is not given
             set_("elements_per_diameter", pv["elements_per_diameter"])
@@ -270,6 +286,14 @@ class Scene:
         if isinstance(self.heights, str) and self.heights_d_c is not None:
             raise ConfigError("heights_d_c", self.heights_d_c,
                               "null unless heights are measured lengths (a file or a list)")
+        if not isinstance(self.k_law, str) and len(self.k_law) != self.n_side**2:
+            raise ConfigError("k_law", f"{len(self.k_law)} values",
+                              f"one stiffness per pillar: n_side**2 = {self.n_side**2}")
+        if (self.k_law == "lognormal") != (self.k_spread > 0):
+            raise ConfigError("k_spread", self.k_spread,
+                              "a number in (0, 10] with k_law: lognormal, else 0")
+        if self.k_law != "one" and self.rigid:
+            raise ConfigError("k_law", self.k_law, "'one' for rigid pillars (k_tilde: inf)")
         _tips.check_tip(self.tip, self.tip_radius)
 
     @property

@@ -1,4 +1,4 @@
-"""Pillar tip shapes as per-element height offsets inside the footprint (docs/model.md §1).
+"""Pillar tip shapes as per-element height offsets inside the footprint (docs/model.md §9).
 
 ``tip: flat`` (default) gives no offsets at all (the grid keeps one set-back per pillar). A shaped
 tip adds to every footprint element the set-back of its surface point from the tip's apex, at the

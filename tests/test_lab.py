@@ -24,7 +24,8 @@ from fibril_hpc.scene import SCENE_FIELDS
 from fibril_hpc.shapes import sphere
 from fibril_hpc.tips import tip_offsets
 
-LAB = ("lattice", "heights", "heights_d_c", "heights_source", "tip", "tip_radius", "k_machine")
+LAB = ("lattice", "heights", "heights_d_c", "heights_source", "k_law", "k_spread", "k_source",
+       "tip", "tip_radius", "k_machine")
 SMALL = dict(n_side=3, elements_per_diameter=5, F_P=1.5, sigma_tilde=0.5)
 
 
@@ -39,7 +40,7 @@ def test_defaults_are_todays_scene_text_key_and_grid():
     # at their defaults the lab fields are not stored: the scene text is the one of before
     assert not set(LAB) & set(s.to_dict())
     explicit = Scene(lattice="square", heights="gaussian", heights_d_c=None, tip="flat",
-                     tip_radius=None, k_machine=math.inf)
+                     tip_radius=None, k_machine=math.inf, k_law="one", k_spread=0.0)
     assert explicit.to_dict() == s.to_dict() and job_key(explicit) == job_key(s)
     # the default scene's grid is the one of the unchanged brush builder, bit for bit, and
     # shaped-tip offsets and extra height arrays do not exist
@@ -52,7 +53,16 @@ def test_defaults_are_todays_scene_text_key_and_grid():
     assert sc == Lattice.of(4, cheap.phi, 6).scaling()
     assert tip_offsets("flat", None, ref.footprint, 1.0, 0.1) is None
     # a rigid machine drives the plain displacement-controlled path: no compliance work
-    assert type(make_driver(model, math.inf)) is PathDriver
+    driver = make_driver(model, math.inf)
+    assert type(driver) is PathDriver
+    # one stiffness: a number everywhere, no per-pillar array anywhere
+    assert not model.per_pillar and isinstance(model.k, float)
+    assert isinstance(model.solver.alpha, float) and isinstance(driver.inv_k, float)
+    assert model.solver.precond.alpha_g is None and driver.local is not None
+    per = build_scene_model(cheap.replace(k_law="lognormal", k_spread=0.1))
+    per_driver = PathDriver(per)        # ... which a per-pillar scene has, one value per pillar
+    assert per.per_pillar and per.k.shape == per.solver.alpha.shape == per_driver.inv_k.shape \
+        == (per.geometry.n_groups,) and per.solver.precond.alpha_g is per.solver.alpha
 
 
 def test_default_result_has_no_lab_outputs(opts):
@@ -155,6 +165,71 @@ def test_bad_lab_input_exit_2_nothing_written(tmp_path, capsys, content, field):
     assert len(err) == 1 and err[0].startswith(f"fibril-run: error: {field}")
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == [
         "bad.csv", "h.csv", "scene.yaml"]
+
+
+# ------------------------------------------------------------------------------ stiffness
+def test_per_pillar_stiffness_equal_values_and_a_vanishing_spread_are_one_stiffness(opts):
+    one = simulate(small(opts))
+    same = simulate(small(opts, k_law=[0.01] * 9))
+    assert same.main.F_A == pytest.approx(one.main.F_A, rel=1e-7)
+    for spread in (1e-4, 1e-8):
+        r = simulate(small(opts, k_law="lognormal", k_spread=spread))
+        assert r.main.F_A == pytest.approx(one.main.F_A, rel=10 * spread + 1e-7)
+    # the block preconditioner's per-pillar (Sherman-Morrison) springs against the diagonal one
+    wide = small(opts, k_law="lognormal", k_spread=0.7)
+    a = simulate(wide)
+    b = simulate(wide.replace(solver=opts.replace(preconditioner="diagonal")))
+    assert a.main.F_A == pytest.approx(b.main.F_A, rel=1e-6) and a.main.F_A != one.main.F_A
+
+
+def test_per_pillar_springs_kernels_match_the_reference():
+    from fibril_hpc.kernels import compiled as C
+    from fibril_hpc.kernels import reference as R
+
+    rng = np.random.default_rng(1)
+    starts = np.array([0, 4, 9, 12], dtype=np.int64)
+    n = 12
+    att = (rng.random(n) < 0.7).astype(np.uint8)
+    alpha = rng.random(3)
+    x, b, u, kd = (rng.standard_normal(n) for _ in range(4))
+    o1, o2 = np.zeros(n), np.zeros(n)
+    assert C.residual(b, u, x, att, starts, alpha, o1) == pytest.approx(
+        R.residual(b, u, x, att, starts, alpha, o2), rel=1e-12)
+    np.testing.assert_allclose(o1, o2, rtol=1e-13, atol=1e-15)
+    assert C.apply_springs(kd, x, att, starts, alpha, o1) == pytest.approx(
+        R.apply_springs(kd, x, att, starts, alpha, o2), rel=1e-12)
+    np.testing.assert_allclose(o1, o2, rtol=1e-13, atol=1e-15)
+    z1, z2 = np.zeros(n), np.zeros(n)
+    assert C.precondition(x, att, starts, alpha, 1.3, z1) == pytest.approx(
+        R.precondition(x, att, starts, alpha, 1.3, z2), rel=1e-12)
+    np.testing.assert_allclose(z1, z2, rtol=1e-13, atol=1e-15)
+
+
+def test_stiffness_law_draws_and_files(tmp_path):
+    from fibril_hpc.heights import pillar_stiffness
+
+    k = pillar_stiffness(0.01, "lognormal", 0.5, 40_000, 2)
+    assert np.median(k) == pytest.approx(0.01, rel=0.02)
+    assert np.log(k).std() == pytest.approx(0.5, rel=0.02)
+    assert np.array_equal(k, pillar_stiffness(0.01, "lognormal", 0.5, 40_000, 2))
+    # its own stream: the height draws of the seed are not touched
+    assert not np.allclose(np.log(k[:9] / 0.01) / 0.5, draws("gaussian", 9, 2))
+    assert pillar_stiffness(0.01, "one", 0.0, 9, 2) == 0.01
+    f = tmp_path / "k.csv"
+    f.write_text("0.01 0.02 0.03\n0.01 0.02 0.03\n0.01 0.02 0.03\n")
+    s = Scene(n_side=3, k_law=str(f))
+    assert s.k_law == (0.01, 0.02, 0.03) * 3 and "sha256:" in s.k_source
+    for bad, field in (([0.01] * 8, "k_law"), ([0.01] * 8 + [0.0], "k_law"),
+                       ("gamma", "k_law")):
+        with pytest.raises(ConfigError) as e:
+            Scene(n_side=3, k_law=bad)
+        assert e.value.field == field
+    with pytest.raises(ConfigError) as e:
+        Scene(n_side=3, k_law="lognormal")
+    assert e.value.field == "k_spread"
+    with pytest.raises(ConfigError) as e:
+        Scene(n_side=3, k_tilde="inf", k_law="lognormal", k_spread=0.3)
+    assert e.value.field == "k_law"
 
 
 # ------------------------------------------------------------------------------ lattices

@@ -17,7 +17,7 @@ A grid YAML is a mapping::
 
 Every combination (k_tilde, sigma_tilde, preload, seed and the ``sweep`` values) is one job; a
 swept lab field's value is in the job's stored scene (``scene_yaml``). A measured ``heights``
-file in ``scene`` is read relative to the YAML's folder.
+or stiffness file in ``scene`` is read relative to the YAML's folder.
 
 Every combination (k_tilde, sigma_tilde, preload, seed) is one job. A job's key is the first 16 hex
 digits of the SHA-256 of its resolved single-preload scene (canonical JSON of the fields that
@@ -234,8 +234,9 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
             allowed = "set at the top level" + (" as seeds" if k == "seed" else f" as {k}")
             raise ConfigError(f"scene.{k}", scene_map[k], allowed + " (it is swept)")
     scene_map = dict(scene_map)
-    if is_height_file(scene_map.get("heights")):
-        scene_map["heights"] = os.path.join(base_dir, os.path.expanduser(scene_map["heights"]))
+    for key in ("heights", "k_law"):          # measured files: relative to the YAML's folder
+        if is_height_file(scene_map.get(key)):
+            scene_map[key] = os.path.join(base_dir, os.path.expanduser(scene_map[key]))
     base = scene_from_dict(scene_map, where="scene.")
     sweep = _sweep(data.get("sweep"))
     for name in ("k_tilde", "sigma_tilde"):
