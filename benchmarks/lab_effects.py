@@ -30,6 +30,8 @@ VARIANTS = [
     ("tip: rounded rho/D=0.1", {"tip": "rounded", "tip_radius": 0.1}),
     ("k_machine: 1", {"k_machine": 1.0}),
     ("k_machine: 0.01", {"k_machine": 0.01}),
+    ("k_law: lognormal 0.3", {"k_law": "lognormal", "k_spread": 0.3}),
+    ("k_law: one, global cascade", {"solver": {"fft_threads": 1, "cascade": "global"}}),
 ]
 
 
@@ -51,7 +53,7 @@ def main(argv=None):
         walls = []
         for _ in range(args.repeats):
             t = time.perf_counter()
-            r = simulate(Scene(**base, **extra))
+            r = simulate(Scene(**{**base, **extra}))
             walls.append(time.perf_counter() - t)
         m = r.main
         row = {"variant": name, "fields": extra, "status": r.status, "F_A": m.F_A, "F_P": m.F_P,

@@ -85,8 +85,11 @@ class FFTPair:
             raise ValueError(f"unknown FFT backend {backend!r}")
 
     def work_arrays(self) -> dict:
-        """The buffers this pair owns, by name (for read-only use, e.g. memory accounting)."""
-        return {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k != "rows"}
+        """The buffers this pair owns, by name (for read-only use, e.g. memory accounting): not
+        the real views of its own complex buffers (``_spec_ri``, ``_prod_ri``) nor the caller's
+        kernel transform (``_kernel_src``); the real kernel copy ``_kernel_ri`` once it exists."""
+        skip = ("rows", "_spec_ri", "_prod_ri", "_kernel_src")
+        return {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k not in skip}
 
     def stages(self, kernel_hat: np.ndarray) -> dict:
         """The stages of one pyfftw product, in order, as named callables (for timing them one by
