@@ -32,11 +32,11 @@ def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
     from ..grid import Lattice, build_pillar_grid
     from ..halfspace import HalfSpace
 
-    lat = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter)
+    lat = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice)
     fp = lat.footprint
     grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter,
                              scene.sigma_tilde * lat.scaling(scene.work_of_adhesion).d_c,
-                             scene.seed)
+                             scene.seed, lattice=scene.lattice)
     op = HalfSpace.from_options(grid.geometry, scene.solver)
     p = np.ones(grid.geometry.n_active)
     out = np.empty_like(p)
