@@ -70,7 +70,8 @@ def main(argv=None) -> int:
 
     from fibril_hpc import simulate
     from fibril_hpc.campaign import load_spec
-    from fibril_hpc.campaign.estimate import fft_pair_seconds
+    from fibril_hpc.campaign.estimate import (PAIRS_PER_EXTRA_PRELOAD, fft_pair_seconds,
+                                              task_seconds)
     from fibril_hpc.model import OperatorCache
 
     spec = load_spec(args.grid)
@@ -114,20 +115,26 @@ def main(argv=None) -> int:
     total *= len(spec.seeds)
     capped = any(x["status"] != "ok" for x in samples)
     per_pillar = [x["fft_pairs"] / (spec.base.n_side ** 2 * math.sqrt(epp)
-                                    * (1 + 0.15 * (len(x["preloads"]) - 1))) for x in samples]
+                                    * (1 + PAIRS_PER_EXTRA_PRELOAD * (len(x["preloads"]) - 1)))
+                  for x in samples]
     n_paths = len(spec.paths())
+    n_pre = round(sum(len(x["preloads"]) for x in samples) / len(samples))
+    dry_run = task_seconds(spec.base, n_pre, pair_s, epp)
     out = {"grid": os.path.abspath(args.grid), "jobs": len(spec.jobs),
            "paths": n_paths, "samples": samples, "ms_per_fft_pair": pair_s * 1e3,
            "core_hours": total / 3600, "lower_bound": capped,
            "mean_path_cpu_s": sum(x["cpu_s"] for x in samples) / len(samples),
            "pairs_per_pillar_element": sum(per_pillar) / len(per_pillar),
+           "dry_run_path_cpu_s": dry_run,
            "fibril_hpc_commit": os.popen(f"git -C {HERE} rev-parse --short HEAD 2>/dev/null")
            .read().strip()}
     cap_note = " (at least: a sample hit the cap)" if capped else ""
     print(f"estimate: {out['core_hours']:.0f} core-hours{cap_note} "
           f"for {len(spec.jobs) or 'auto'} jobs in {n_paths} loading paths "
           f"(mean sampled path {out['mean_path_cpu_s']:.0f} s CPU); with N ranks x N/(N-1) for the master; "
-          f"FFT pairs per pillar per sqrt(element) {out['pairs_per_pillar_element']:.0f}")
+          f"FFT pairs per pillar per sqrt(element) {out['pairs_per_pillar_element']:.1f}; "
+          f"--dry-run's model: {dry_run:.0f} s per path "
+          f"({dry_run / out['mean_path_cpu_s']:.2f}x the mean sampled path)")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(out, fh, indent=1)

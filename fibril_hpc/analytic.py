@@ -49,3 +49,31 @@ def jkr_critical_radius(R: float, dgamma: float, e_star: float = 1.0) -> float:
 def hertz_force(R: float, delta: float, e_star: float = 1.0) -> float:
     """Hertz: F = (4/3) E* sqrt(R) delta^(3/2)."""
     return 4.0 / 3.0 * e_star * math.sqrt(R) * max(delta, 0.0) ** 1.5
+
+
+def jkr_pull_off_compliant(R: float, dgamma: float, k_machine: float,
+                           e_star: float = 1.0) -> float:
+    """JKR sphere pulled through a machine of stiffness k_m: the tension at the jump-off, where the
+    contact's slope dF/ddelta reaches -k_m (k_m -> 0: 1.5 pi R dgamma, load control; k_m = inf:
+    5/6 pi R dgamma, displacement control). Solved by bisection on the contact radius."""
+    w = dgamma
+
+    def slope(a):       # dF/ddelta along the JKR curve, from dF/da and ddelta/da
+        dF = 4 * e_star * a * a / R - 1.5 * math.sqrt(8 * math.pi * w * e_star * a)
+        dd = 2 * a / R - 0.5 * math.sqrt(2 * math.pi * w / (e_star * a))
+        return dF / dd
+
+    a_c = jkr_critical_radius(R, dgamma, e_star)              # slope 0 (the force minimum)
+    a_d = (math.pi * w * R * R / (8 * e_star)) ** (1 / 3)    # slope -inf (ddelta/da = 0)
+    if math.isinf(k_machine):
+        a = a_d
+    else:
+        lo, hi = a_d * (1 + 1e-12), a_c      # slope falls from 0 at a_c to -inf at a_d
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if slope(mid) < -k_machine:
+                lo = mid
+            else:
+                hi = mid
+        a = 0.5 * (lo + hi)
+    return -jkr_force(a, R, dgamma, e_star)

@@ -14,6 +14,7 @@ import numpy as np
 
 from .errors import NoConvergenceError
 from .loading import CurveRecorder, PathDriver
+from .machine import MachineDriver, machine_displacement, make_driver
 from .model import Model, OperatorCache, build_scene_model
 from .results import (STATUS_FAILED, STATUS_OK, Curve, PillarState, PreloadResult,
                       SimulationResult, software_versions)
@@ -22,12 +23,16 @@ from .scene import Scene
 log = logging.getLogger(__name__)
 
 
-def _curve(model: Model, rec: CurveRecorder, start: int = 0, stop: int | None = None) -> Curve:
+def _curve(model: Model, rec: CurveRecorder, start: int = 0, stop: int | None = None,
+           k_machine: float = math.inf) -> Curve:
     d, F, n_att, n_pil = rec.arrays()
     sl = slice(start, stop)
     sc = model.scaling
     total = max(model.geometry.n_active, 1)
-    return Curve(d[sl] / sc.d_c, F[sl] / sc.F_c, n_att[sl] / total, n_pil[sl])
+    c = Curve(d[sl] / sc.d_c, F[sl] / sc.F_c, n_att[sl] / total, n_pil[sl])
+    if not math.isinf(k_machine):
+        c.d_machine_tilde = machine_displacement(c.d_tilde, c.F_tilde, k_machine, sc)
+    return c
 
 
 def _with_point(rec: CurveRecorder, snap) -> CurveRecorder:
@@ -94,7 +99,8 @@ def _run_preloads(model: Model, scene: Scene, driver: PathDriver) -> list[Preloa
         return [PreloadResult(kind, v, STATUS_FAILED, f"loading: {exc}") for v in values]
     for value, snap in zip(values, snaps):
         res = PreloadResult(kind, value, STATUS_OK)
-        res.loading = _curve(model, _with_point(loading, snap), 0, snap.n_points + 1)
+        res.loading = _curve(model, _with_point(loading, snap), 0, snap.n_points + 1,
+                             scene.k_machine)
         res.d_tilde_max = snap.d / sc.d_c
         res.F_P = float(res.loading.F_tilde[-1])
         res.n_pillars_in_contact_max = int(res.loading.n_pillars_in_contact.max())
@@ -108,6 +114,7 @@ def _run_preloads(model: Model, scene: Scene, driver: PathDriver) -> list[Preloa
             res.let_go_d_tilde = None
             res.message = "non-adhesive: the unloading branch retraces the loading branch"
         else:
+            jumps0 = getattr(driver, "jumps", None)
             try:
                 br = driver.unload(snap)
             except NoConvergenceError as exc:
@@ -115,7 +122,12 @@ def _run_preloads(model: Model, scene: Scene, driver: PathDriver) -> list[Preloa
                 res.message = f"unloading: {exc}"
                 out.append(res)
                 continue
-            res.unloading = _curve(model, br.curve)
+            res.unloading = _curve(model, br.curve, k_machine=scene.k_machine)
+            if jumps0 is not None:
+                res.jumps = driver.jumps - jumps0
+                # the last step's pre-event point: where the plate leaves the surface
+                res.F_jump = (max(0.0, -float(res.unloading.F_tilde[-2]))
+                               if len(res.unloading) > 1 else 0.0)
             res.F_A = max(0.0, -br.F_min / sc.F_c)
             res.d_tilde_at_F_A = br.d_at_F_min / sc.d_c
             res.at_pulloff = _pillar_state(model, br.d_at_F_min, br.p_at_min, br.att_at_min)
@@ -151,7 +163,7 @@ def simulate(scene: Scene, *, model: Model | None = None,
     if model is None:
         model = build_scene_model(scene, operators)
     it0, pairs0, solves0 = model.solver.iterations, model.fft_pairs, model.solver.solves
-    driver = PathDriver(model)
+    driver = make_driver(model, scene.k_machine)
     results = _run_preloads(model, scene, driver)
     failed = [r for r in results if r.status != STATUS_OK]
     status = STATUS_FAILED if failed else STATUS_OK
@@ -173,6 +185,8 @@ def simulate(scene: Scene, *, model: Model | None = None,
         "fft_pairs": model.fft_pairs - pairs0,
         "events": driver.events,
     }
+    if isinstance(driver, MachineDriver):
+        res.stats.update(jumps=driver.jumps, jump_events=driver.jump_events)
     if status == STATUS_FAILED:
         log.warning("simulation failed: %s", message)
     return res

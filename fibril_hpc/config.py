@@ -13,6 +13,7 @@ import os
 import yaml
 
 from .errors import ConfigError
+from .heights import is_file as is_height_file
 from .scene import Scene, scene_from_dict
 
 #: Built-in scenes for ``fibril-run --builtin NAME``.
@@ -45,6 +46,11 @@ def load_scene(path: str) -> Scene:
     data = read_yaml(path)
     if data is None:
         data = {}
+    for key in ("heights", "k_law"):
+        if isinstance(data, dict) and is_height_file(data.get(key)):
+            # a measured height/stiffness file is named relative to the scene file's folder
+            data = {**data, key: os.path.join(os.path.dirname(os.path.abspath(path)),
+                                              os.path.expanduser(data[key]))}
     return scene_from_dict(data)
 
 

@@ -56,8 +56,11 @@ def love(x, y, h, e_star=E_STAR):
     return s / (math.pi * e_star)
 
 
-#: Relative cost per radix pass of FFTW's codelets (rough, per log2 of the factor's work).
-_RADIX_COST = {2: 1.0, 3: 1.7, 5: 2.6, 7: 3.6}
+#: Relative cost per radix pass of FFTW's codelets, fitted to the measured row-pruned pair at
+#: every 7-smooth candidate for n = 306 and 522 (benchmarks/padded_size.py; NOTES, issue 8):
+#: radix 3 is dearer (2.0, was 1.7) and 7 cheaper (3.4, was 3.6) than the first guess, which
+#: picked 1080 for n = 522 where 1050 measured 1.15-1.21x faster.
+_RADIX_COST = {2: 1.0, 3: 2.0, 5: 2.6, 7: 3.4}
 
 
 def _fft_cost(m: int) -> float:
@@ -73,8 +76,9 @@ def _fft_cost(m: int) -> float:
 
 def padded_size(n: int) -> int:
     """FFT side of the non-periodic product on n x n: the 7-smooth size >= 2n - 1 (at most 15 %
-    above it) that the cost model ranks cheapest. Odd and 5^k-heavy sizes are avoided (slow real
-    transforms; measurements in ``benchmarks/NOTES.md``). See ``docs/model.md`` §3."""
+    above it) that the cost model ranks cheapest. Odd and 5^k-heavy sizes are avoided: at the
+    default brush (2n - 1 = 611), 640 instead of 625 made a CG iteration 1.4-1.6x faster
+    (measured by fibril-bench); at n = 522 it picks 1050 (1080 measured 1.15x slower)."""
     need = 2 * n - 1
     cands = []
     p2 = 1

@@ -107,6 +107,10 @@ class PillarGrid:
         return math.sqrt(self.elements_per_pillar * self.h**2 / math.pi)
 
 
+#: Lattices a brush can have (``Scene.lattice``).
+LATTICES = ("square", "hexagonal")
+
+
 def pitch_elements(phi: float, elements_per_diameter: float) -> int:
     """Odd pitch (elements) nearest to elements_per_diameter * s/D, at least 3."""
     target = elements_per_diameter * math.sqrt(math.pi / (4.0 * phi))
@@ -114,14 +118,27 @@ def pitch_elements(phi: float, elements_per_diameter: float) -> int:
     return max(3, s)
 
 
+def hex_pitch_elements(phi: float, elements_per_diameter: float) -> tuple:
+    """(pitch, row spacing) of a hexagonal lattice in elements: the pitch is the *even* number
+    nearest to elements_per_diameter * s/D (at least 4; even so that the half-pitch shift of every
+    other row is whole elements), with s/D = sqrt(pi / (2 sqrt(3) phi)); the rows are
+    round(pitch sqrt(3)/2) elements apart."""
+    target = elements_per_diameter * math.sqrt(math.pi / (2.0 * math.sqrt(3.0) * phi))
+    a = max(4, 2 * int(round(target / 2.0)))
+    return a, int(round(a * math.sqrt(3.0) / 2.0))
+
+
+def disc_footprint(radius: float, half: int) -> tuple:
+    """Offsets (di, dj), |di|, |dj| <= half, of the elements whose centres lie within ``radius``
+    (in elements) of the centre element."""
+    r2 = radius * radius * (1.0 + 1e-12)
+    return tuple((di, dj) for di in range(-half, half + 1) for dj in range(-half, half + 1)
+                 if di * di + dj * dj <= r2)
+
+
 def footprint(pitch: int, phi: float) -> tuple:
     """Offsets (di, dj) of the elements whose centres lie within D/2 of the pillar centre."""
-    r = pitch * math.sqrt(phi / math.pi)            # nominal radius, in elements
-    half = (pitch - 1) // 2
-    r2 = r * r * (1.0 + 1e-12)
-    out = tuple((di, dj) for di in range(-half, half + 1) for dj in range(-half, half + 1)
-                if di * di + dj * dj <= r2)
-    return out
+    return disc_footprint(pitch * math.sqrt(phi / math.pi), (pitch - 1) // 2)
 
 
 @dataclass(frozen=True)
@@ -135,25 +152,51 @@ class Lattice:
     Attributes
     ----------
     n_side : int
-        Pillars per side.
+        Pillars per side (square), or pillars per row and rows (hexagonal).
     phi : float
         Nominal filling ratio.
     pitch : int
-        Elements per pitch s (odd).
+        Elements per pitch s (odd for the square lattice, even for the hexagonal one, whose pitch
+        is the nearest-neighbour distance along a row).
     footprint : tuple
         ((di, dj), ...) offsets of one pillar's elements from its centre element.
+    kind : str
+        ``"square"`` (default) or ``"hexagonal"``.
+    row_pitch : int
+        Elements between rows (0: the pitch; hexagonal: round(pitch sqrt(3)/2)).
     """
 
     n_side: int
     phi: float
     pitch: int
     footprint: tuple
+    kind: str = "square"
+    row_pitch: int = 0
 
     @classmethod
-    def of(cls, n_side: int, phi: float, elements_per_diameter: float) -> Lattice:
-        """The lattice a resolution target gives (pitch: the nearest odd whole number)."""
-        s = pitch_elements(phi, elements_per_diameter)
-        return cls(n_side=n_side, phi=phi, pitch=s, footprint=footprint(s, phi))
+    def of(cls, n_side: int, phi: float, elements_per_diameter: float,
+           kind: str = "square") -> Lattice:
+        """The lattice a resolution target gives (pitch: the nearest odd whole number for the
+        square lattice, see :func:`hex_pitch_elements` for the hexagonal one)."""
+        if kind == "square":
+            s = pitch_elements(phi, elements_per_diameter)
+            return cls(n_side=n_side, phi=phi, pitch=s, footprint=footprint(s, phi))
+        a, r = hex_pitch_elements(phi, elements_per_diameter)
+        radius = a * math.sqrt(phi * math.sqrt(3.0) / (2.0 * math.pi))
+        return cls(n_side=n_side, phi=phi, pitch=a, footprint=disc_footprint(radius, a // 2),
+                   kind=kind, row_pitch=r)
+
+    @property
+    def radius(self) -> float:
+        """Nominal pillar radius D/2 in elements."""
+        if self.kind == "square":
+            return self.pitch * math.sqrt(self.phi / math.pi)
+        return self.pitch * math.sqrt(self.phi * math.sqrt(3.0) / (2.0 * math.pi))
+
+    @property
+    def rows(self) -> int:
+        """Elements between rows of pillars."""
+        return self.row_pitch or self.pitch
 
     @property
     def elements_per_pillar(self) -> int:
@@ -162,17 +205,38 @@ class Lattice:
 
     @property
     def phi_discrete(self) -> float:
-        """Discrete filling ratio: pillar elements / pitch**2."""
-        return self.elements_per_pillar / float(self.pitch * self.pitch)
+        """Discrete filling ratio: pillar elements / unit-cell elements (pitch x row spacing)."""
+        return self.elements_per_pillar / float(self.pitch * self.rows)
 
     @property
     def grid_side(self) -> int:
-        """N = n_side * pitch elements per side."""
-        return self.n_side * self.pitch
+        """N elements per side: n_side * pitch (hexagonal: plus half a pitch for the shifted
+        rows)."""
+        return self.n_side * self.pitch + (0 if self.kind == "square" else self.pitch // 2)
+
+    @property
+    def area_fraction(self) -> float:
+        """Nominal area A0 = pillars x unit cell over the grid's area N**2 (1 for square)."""
+        if self.kind == "square":
+            return 1.0
+        return self.n_side**2 * self.pitch * self.rows / float(self.grid_side**2)
+
+    def centres(self) -> tuple:
+        """(row, column) element indices of the pillar centres, in row-major pillar order."""
+        I, J = np.meshgrid(np.arange(self.n_side), np.arange(self.n_side), indexing="ij")
+        I, J = I.ravel(), J.ravel()
+        if self.kind == "square":
+            half = (self.pitch - 1) // 2
+            return I * self.pitch + half, J * self.pitch + half
+        half = self.pitch // 2
+        return I * self.rows + half, J * self.pitch + half + (I % 2) * half
 
     def scaling(self, work_of_adhesion: float = 1.0) -> Scaling:
         """The normalisation of this lattice (with the discrete filling ratio)."""
-        return Scaling(phi=self.phi_discrete, work_of_adhesion=work_of_adhesion)
+        if self.kind == "square":
+            return Scaling(phi=self.phi_discrete, work_of_adhesion=work_of_adhesion)
+        return Scaling(phi=self.phi_discrete, work_of_adhesion=work_of_adhesion,
+                       area=self.area_fraction)
 
 
 def pillar_heights(n_pillars: int, seed: int) -> np.ndarray:
@@ -182,7 +246,9 @@ def pillar_heights(n_pillars: int, seed: int) -> np.ndarray:
 
 
 def build_pillar_grid(n_side: int, phi: float, elements_per_diameter: float, sigma: float,
-                      seed: int, *, max_elements: int = 8192) -> PillarGrid:
+                      seed: int, *, max_elements: int = 8192, lattice: str = "square",
+                      heights: tuple | None = None, tip_offsets: np.ndarray | None = None
+                      ) -> PillarGrid:
     """Discretise a brush of n_side**2 pillars on the unit square.
 
     Parameters
@@ -191,28 +257,38 @@ def build_pillar_grid(n_side: int, phi: float, elements_per_diameter: float, sig
         Standard deviation of the pillar length (internal length units).
     max_elements : int
         Largest grid side accepted (memory guard).
+    lattice : str
+        ``"square"`` (default) or ``"hexagonal"`` (:class:`Lattice`).
+    heights : (xi, zeta) or None
+        Per-pillar draws and set-backs (internal units) from another height law
+        (:mod:`fibril_hpc.heights`); ``None``: the Gaussian draw of the module docstring.
+    tip_offsets : ndarray or None
+        Per-footprint-element height offsets of a shaped tip (internal units, >= 0, in footprint
+        order; :mod:`fibril_hpc.tips`); ``None``: flat tips, no offsets.
     """
-    lat = Lattice.of(n_side, phi, elements_per_diameter)
+    lat = Lattice.of(n_side, phi, elements_per_diameter, lattice)
     s, n, fp = lat.pitch, lat.grid_side, lat.footprint
     if n > max_elements:
         raise ConfigError("elements_per_diameter", elements_per_diameter,
                           f"a resolution giving at most {max_elements} elements per side "
                           f"(this one gives {n} for n_side={n_side})")
     h = 1.0 / n
-    half = (s - 1) // 2
     di = np.array([o[0] for o in fp], dtype=np.int64)
     dj = np.array([o[1] for o in fp], dtype=np.int64)
-    I, J = np.meshgrid(np.arange(n_side), np.arange(n_side), indexing="ij")
-    cy = (I.ravel() * s + half)[:, None]
-    cx = (J.ravel() * s + half)[:, None]
-    iy = (cy + di[None, :]).ravel()
-    ix = (cx + dj[None, :]).ravel()
+    cy, cx = lat.centres()
+    iy = (cy[:, None] + di[None, :]).ravel()
+    ix = (cx[:, None] + dj[None, :]).ravel()
     m = len(fp)
     n_p = n_side * n_side
     starts = np.arange(n_p + 1, dtype=np.int64) * m
-    xi = pillar_heights(n_p, seed)
-    zeta = sigma * (xi.max() - xi) if n_p else np.zeros(0)
+    if heights is None:
+        xi = pillar_heights(n_p, seed)
+        zeta = sigma * (xi.max() - xi) if n_p else np.zeros(0)
+    else:
+        xi, zeta = heights
     z0 = np.repeat(zeta, m)
+    if tip_offsets is not None:
+        z0 = z0 + np.tile(tip_offsets, n_p)
     geom = Geometry(n=n, h=h, iy=iy.astype(np.int64), ix=ix.astype(np.int64),
                     starts=starts, z0=z0.astype(np.float64))
     return PillarGrid(n_side=n_side, pitch=s, footprint=fp, geometry=geom, xi=xi, zeta=zeta)

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .cascade import LocalCascade
 from .errors import NoConvergenceError
 from .kernels import compiled as kern
 
@@ -119,6 +120,11 @@ class PathDriver:
         # flipped since, which a direct sum corrects (no FFT) before the next solve
         self.p_ref = np.zeros(n)
         self.p1_ref = np.zeros(n)
+        # attached sets of the last solve for p and for p1 (the local path re-solves, before a
+        # global solve, the groups whose set changed since)
+        self.att_ref = np.zeros(n, dtype=np.uint8)
+        self.att1_ref = np.zeros(n, dtype=np.uint8)
+        self.group_of = np.repeat(np.arange(ng), np.diff(self.starts))
         self._since_full = 0
         self._b = np.empty(n)
         self._ones = np.ones(n)
@@ -130,6 +136,9 @@ class PathDriver:
         self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
         self.tol_g = 1e3 * opts.cg_tol * d_c
         self.worst_only = opts.detach_policy == "worst"
+        # per-pillar stiffnesses take the reference (global) cascade
+        self.local = (LocalCascade(model) if opts.cascade == "local" and not model.per_pillar
+                      else None)
         self.deadline = (math.inf if opts.max_wall_s is None
                          else time.monotonic() + opts.max_wall_s)
 
@@ -163,29 +172,53 @@ class PathDriver:
     def relax(self):
         """Solve at fixed d and update the contact set until it stops changing.
 
-        The first pass solves at the full ``cg_tol``; once the set changes, the passes in the
-        middle of the cascade solve to ``relax_tol`` (looser), a set that is stable at that
-        tolerance is confirmed by a solve at ``cg_tol``, and only a set stable at full tolerance
-        ends the relaxation.
+        ``cascade: global`` (the reference): every pass is a global solve. The first pass solves
+        at the full ``cg_tol``; once the set changes, the passes in the middle of the cascade
+        solve to ``relax_tol`` (looser), a set that is stable at that tolerance is confirmed by a
+        solve at ``cg_tol``, and only a set stable at full tolerance ends the relaxation.
+
+        ``cascade: local`` (default): before each global solve the pillars whose set or
+        pressure changed since the last solve run their own cascade with exact dense solves and
+        the rest of the grid held (:class:`~fibril_hpc.cascade.LocalCascade`); the global solve
+        at ``cg_tol`` then confirms, and a new local round starts only on the pillars it
+        flips. Where the changed pillars are too many for a dense solve the pass is a global
+        one with the reference's tolerances.
         """
         m = self.model
         np.subtract(self.d, self.z0, out=self._b)
         loose = max(m.options.relax_tol, m.options.cg_tol)
         tight = True
         for _ in range(_MAX_RELAX_PASSES):
-            self._solve(self._b, self.p, self.u, self.p_ref, None if tight else loose)
+            if self.local is not None:
+                groups = self._changed_groups(self.p, self.p_ref, self.att_ref)
+                if len(groups):
+                    out = self.local.cascade(groups, self.d, self._b, self.p, self.p_ref, self.u,
+                                             self.g, self.att, m.sigma_c, self.tol_p, self.tol_g,
+                                             self.worst_only, m.solver.precond)
+                    if out is not None and out[0]:
+                        # the set changed: a local fixed point is confirmed at full tolerance
+                        # at once; an untrusted proposal is an intermediate (loose) pass
+                        tight = out[1] or loose == m.options.cg_tol
+            tol = None if tight else loose
+            self._solve(self._b, self.p, self.u, self.p_ref, tol)
+            self.att_ref[:] = self.att
             self._forces(self.p, self.f)
             self._gaps(self.u, self.f, self.d, 1.0, self.g)
             nd, na = kern.update_contact_set(self.p, self.g, self.att, self.starts, m.sigma_c,
                                              self.tol_p, self.tol_g, self.worst_only)
             if nd == 0 and na == 0:
-                if tight:
+                if tol is None:
                     return
                 tight = True        # confirm at full tolerance
             elif loose != m.options.cg_tol:
                 tight = False
         raise NoConvergenceError(f"contact set did not settle in {_MAX_RELAX_PASSES} passes "
                                  f"at d = {self.d:.6g}")
+
+    def _changed_groups(self, x, x_ref, att_ref):
+        """Groups with an element whose value or attachment changed since the last solve."""
+        diff = (x != x_ref) | (self.att != att_ref)
+        return np.unique(self.group_of[diff])
 
     #: full FFT recomputation of u after this many incrementally-kept solves (drift guard)
     REFRESH = 64
@@ -205,10 +238,17 @@ class PathDriver:
         """p1 = A^-1 1_S, u1 = K p1, f1, g1 on the current set."""
         self.p1[self.att == 0] = 0.0
         if self.att.any():
+            if self.local is not None:
+                # the set changed on a few pillars since the last direction: solve those
+                # directly with the rest held, so the global solve only restores the coupling
+                groups = self._changed_groups(self.p1, self.p1_ref, self.att1_ref)
+                if len(groups):
+                    self.local.solve(groups, self._ones, self.p1, self.p1_ref, self.u1, self.att)
             self._solve(self._ones, self.p1, self.u1, self.p1_ref)
         else:
             self.u1[:] = 0.0
             self.p1_ref[:] = 0.0
+        self.att1_ref[:] = self.att
         self._forces(self.p1, self.f1)
         self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
 
@@ -238,7 +278,8 @@ class PathDriver:
             raise NoConvergenceError(f"wall-time cap of {self.model.options.max_wall_s:g} s "
                                      "exceeded (solver.max_wall_s)")
 
-    _STATE = ("p", "u", "att", "g", "f", "p1", "u1", "g1", "f1", "p_ref", "p1_ref")
+    _STATE = ("p", "u", "att", "g", "f", "p1", "u1", "g1", "f1", "p_ref", "p1_ref", "att_ref",
+              "att1_ref")
 
     def _save(self) -> dict:
         out = {k: getattr(self, k).copy() for k in self._STATE}
@@ -297,6 +338,8 @@ class PathDriver:
         self.u1[:] = snap.u1
         self.p_ref[:] = snap.p
         self.p1_ref[:] = snap.p1
+        self.att_ref[:] = snap.att
+        self.att1_ref[:] = snap.att
         self._since_full = 0
         self._forces(self.p, self.f)
         self._gaps(self.u, self.f, self.d, 1.0, self.g)
@@ -323,6 +366,7 @@ class PathDriver:
         if on_batch is not None:
             on_batch(last)
         self.move(last, sgn)
+        anchor = None if self.settle is None else self.anchor()
         # elements at their event (to rounding): remaining distance <= a hair
         hair = 1e-12 * self.model.scaling.d_c + 1e-12 * (abs(dist) + last)
         if kern.flip_events(self.p, self.p1, self.g, self.g1, self.att, self.model.sigma_c,
@@ -330,10 +374,18 @@ class PathDriver:
             raise NoConvergenceError(f"no element flipped at a located event (d = {self.d:.6g})")
         self._count_event()
         self.relax()
+        fresh = False if self.settle is None else self.settle(sgn, anchor)
         self.record(curve)
         if on_point is not None:
             on_point()
-        self.solve_direction()
+        if not fresh:
+            self.solve_direction()
+
+    #: hook of a compliant loading machine (:class:`~fibril_hpc.machine.MachineDriver`): after an
+    #: event's relaxation, ``settle(sgn, anchor) -> bool`` moves the plate to where the machine
+    #: holds it (and says whether the direction is solved there); None: displacement control,
+    #: nothing to do
+    settle = None
 
     def solve_at(self, d: float) -> None:
         """Equilibrium at plate displacement ``d`` by a plain active-set iteration from no contact
@@ -350,6 +402,8 @@ class PathDriver:
         for a in (self.p, self.u, self.p_ref, self.p1, self.u1, self.p1_ref):
             a[:] = 0.0
         self.att[:] = 0
+        self.att_ref[:] = 0
+        self.att1_ref[:] = 0
         self._since_full = 0
         self._forces(self.p, self.f)
         self._gaps(self.u, self.f, self.d, 1.0, self.g)

@@ -16,6 +16,8 @@ import numpy as np
 
 from .grid import Geometry, Lattice, PillarGrid, build_pillar_grid
 from .halfspace import HalfSpace
+from .heights import pillar_stiffness, setbacks
+from .tips import tip_offsets
 from .scaling import Scaling, critical_stress
 from .scene import Scene, SolverOptions
 from .solver import ConstrainedCG
@@ -28,7 +30,8 @@ class Model:
     geometry: Geometry
     operator: HalfSpace
     solver: ConstrainedCG
-    k: float                 # spring stiffness (internal units), inf for rigid
+    k: float | np.ndarray    # spring stiffness (internal units), inf for rigid; one per pillar
+    #                          only when the scene asks for per-pillar stiffnesses
     sigma_c: float           # detachment stress (0 without adhesion)
     adhesion: bool
     scaling: Scaling
@@ -38,7 +41,12 @@ class Model:
     @property
     def rigid(self) -> bool:
         """Whether the pillars are rigid (k = inf)."""
-        return math.isinf(self.k)
+        return not self.per_pillar and math.isinf(self.k)
+
+    @property
+    def per_pillar(self) -> bool:
+        """Whether every pillar has its own stiffness (``k`` is an array)."""
+        return isinstance(self.k, np.ndarray)
 
     @property
     def fft_pairs(self) -> int:
@@ -63,7 +71,10 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
                 and np.array_equal(g0.ix, geometry.ix) and np.array_equal(g0.starts, geometry.starts)):
             raise ValueError("the operator was built on a different grid")
         op = operator
-    alpha = 0.0 if math.isinf(k) else geometry.h**2 / k
+    if isinstance(k, np.ndarray):
+        alpha = geometry.h**2 / k              # one spring coefficient per pillar
+    else:
+        alpha = 0.0 if math.isinf(k) else geometry.h**2 / k
     solver = ConstrainedCG(op, alpha, options.cg_tol, options.cg_maxiter,
                            preconditioner=options.preconditioner)
     sigma_c = critical_stress(geometry.h, work_of_adhesion) if adhesion else 0.0
@@ -73,7 +84,7 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
 
 def scene_lattice(scene: Scene) -> Lattice:
     """The lattice step of a scene (see :class:`~fibril_hpc.grid.Lattice`)."""
-    return Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter)
+    return Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice)
 
 
 def scene_scaling(scene: Scene) -> tuple[Scaling, int, tuple]:
@@ -86,11 +97,21 @@ def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
                       m: int | None = None) -> Model:
     """Discretise a pillar scene and build its model (reusing a cached operator if given;
     ``m`` sets the padded FFT size of a new operator)."""
-    scaling, _, _ = scene_scaling(scene)
-    grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter,
-                             scene.sigma_tilde * scaling.d_c, scene.seed)
+    lat = scene_lattice(scene)
+    scaling = lat.scaling(scene.work_of_adhesion)
+    sigma = scene.sigma_tilde * scaling.d_c
+    # the default scene (gaussian heights, flat tips) takes the grid's own draw: no extra arrays
+    heights = None if scene.heights == "gaussian" else setbacks(
+        scene.heights, scene.heights_d_c, scene.n_side**2, sigma, scene.seed, scaling.d_c)
+    offsets = tip_offsets(scene.tip, scene.tip_radius, lat.footprint, lat.radius,
+                          1.0 / lat.grid_side)
+    grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter, sigma,
+                             scene.seed, lattice=scene.lattice, heights=heights,
+                             tip_offsets=offsets)
     op = None if operators is None else operators.get(scene, grid.geometry)
-    return build_model(grid.geometry, k=scaling.k(scene.k_tilde), adhesion=scene.adhesion,
+    k_tilde = pillar_stiffness(scene.k_tilde, scene.k_law, scene.k_spread, scene.n_side**2,
+                               scene.seed)
+    return build_model(grid.geometry, k=scaling.k(k_tilde), adhesion=scene.adhesion,
                        work_of_adhesion=scene.work_of_adhesion, scaling=scaling,
                        options=scene.solver, grid=grid, operator=op, m=m)
 
@@ -108,7 +129,7 @@ class OperatorCache:
     def key(scene: Scene) -> tuple:
         """The grid (lattice step) and the options an operator depends on
         (``SolverOptions.operator_settings``)."""
-        return (scene.n_side, scene.phi, scene_lattice(scene).pitch,
+        return (scene.n_side, scene.phi, scene_lattice(scene).pitch, scene.lattice,
                 *sorted(scene.solver.operator_settings().items()))
 
     def get(self, scene: Scene, geometry: Geometry) -> HalfSpace:

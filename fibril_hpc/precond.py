@@ -29,7 +29,7 @@ class DiagonalPreconditioner:
 
     def __init__(self, geometry, alpha: float, c0: float):
         self.starts = geometry.starts
-        self.alpha = float(alpha)
+        self.alpha = alpha if isinstance(alpha, np.ndarray) else float(alpha)
         self.c0 = float(c0)
 
     def update(self, att) -> None:
@@ -71,10 +71,16 @@ class BlockPreconditioner:
         x = geometry.ix[:m] * h
         y = geometry.iy[:m] * h
         block = love(x[:, None] - x[None, :], y[:, None] - y[None, :], h)
-        if alpha != 0.0:
+        # per-pillar stiffness: the blocks are inverted without the spring term, which each
+        # pillar adds as a rank-one (Sherman-Morrison) correction in apply
+        self.alpha_g = alpha if isinstance(alpha, np.ndarray) else None
+        if self.alpha_g is None and alpha != 0.0:
             block = block + alpha
         self.block = block
         self.full_inv = np.linalg.inv(block)
+        if self.alpha_g is not None:
+            self._w_full = self.full_inv.sum(axis=1)        # B^-1 1
+            self._c_full = float(self._w_full.sum())        # 1^T B^-1 1
         # partial-pattern inverses are m x m float64: bound the cache by memory, not count
         self.max_cache = max(8, cache_bytes // (8 * m * m))
         self._cache: dict = {}
@@ -135,7 +141,21 @@ class BlockPreconditioner:
         z2[self._full] = self._zg[self._full]
         for g, (idx, inv) in self._partial.items():
             z2[g, idx] = inv @ r2[g, idx]
+        if self.alpha_g is not None:
+            self._springs(r2, z2)
         return float(r @ z)
+
+    def _springs(self, r2, z2):
+        """(B + a 1 1^T)^-1 r = B^-1 r - a w (1^T B^-1 r) / (1 + a 1^T w), w = B^-1 1, per pillar."""
+        a = self.alpha_g
+        full = self._full
+        if full.any():
+            w = self._w_full
+            t = z2[full].sum(axis=1)
+            z2[full] -= (a[full] * t / (1.0 + a[full] * self._c_full))[:, None] * w[None, :]
+        for g, (idx, inv) in self._partial.items():
+            w = inv.sum(axis=1)
+            z2[g, idx] -= a[g] * w * z2[g, idx].sum() / (1.0 + a[g] * w.sum())
 
 
 def make_preconditioner(geometry, alpha: float, c0: float, kind: str = "auto",

@@ -29,6 +29,8 @@ class Curve:
     F_tilde: np.ndarray
     contact_fraction: np.ndarray
     n_pillars_in_contact: np.ndarray
+    #: machine-end displacement Delta/d_c of a compliant machine (None: displacement control)
+    d_machine_tilde: np.ndarray | None = None
 
     def __len__(self):
         return len(self.d_tilde)
@@ -36,7 +38,8 @@ class Curve:
     def reversed(self) -> Curve:
         """The same points in the opposite order (copies)."""
         return Curve(self.d_tilde[::-1].copy(), self.F_tilde[::-1].copy(),
-                     self.contact_fraction[::-1].copy(), self.n_pillars_in_contact[::-1].copy())
+                     self.contact_fraction[::-1].copy(), self.n_pillars_in_contact[::-1].copy(),
+                     None if self.d_machine_tilde is None else self.d_machine_tilde[::-1].copy())
 
 
 @dataclass
@@ -64,6 +67,9 @@ class PreloadResult:
     d_tilde_at_F_A: float = math.nan
     n_pillars_in_contact_max: int = 0
     events: int = 0
+    jumps: int | None = None    # plate jumps of the unloading branch (None: rigid machine)
+    F_jump: float | None = None  # force at the jump-off of the final separation, / F_c (tension
+    #                              > 0; None: rigid machine, where it is the last event's force)
     loading: Curve | None = None
     unloading: Curve | None = None
     at_preload: PillarState | None = None
@@ -83,6 +89,7 @@ class PreloadResult:
             "d_tilde_at_F_A": self.d_tilde_at_F_A,
             "n_pillars_in_contact_max": self.n_pillars_in_contact_max,
             "events": self.events,
+            **({} if self.jumps is None else {"jumps": self.jumps, "F_jump": self.F_jump}),
         }
 
 

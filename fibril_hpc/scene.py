@@ -12,7 +12,10 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+from . import heights as _heights
+from . import tips as _tips
 from .errors import ConfigError
+from .grid import LATTICES
 from .presets import DEFAULT_PRESET, PRESET_NAMES, preset_values
 from .ranges import Choice, Flag, Int, Real, check_fields
 
@@ -36,6 +39,13 @@ def _opt(default, kind: str, rng, operator_arg: str = ""):
 
 def _in(default, rng, many: bool = False):
     return dataclasses.field(default=default, metadata={"range": rng, "many": many})
+
+
+def _lab(default, rng, key: bool = True):
+    """A field of the lab scenes (issue 11): stored and part of job keys only when it differs
+    from its default, so every scene written before it existed keeps its text and key."""
+    return dataclasses.field(default=default, metadata={"range": rng, "many": False,
+                                                        "extra": True, "key": key})
 
 
 @dataclass(frozen=True)
@@ -84,6 +94,11 @@ class SolverOptions:
         follows ``OPENBLAS_NUM_THREADS``.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
+    cascade : str
+        How a detachment/attachment cascade at fixed d is solved (does not define the result:
+        both reach the same fixed point, tested): ``"local"`` (default: the pillars whose set
+        changed are solved directly with the rest of the grid held, then one global solve
+        confirms) or ``"global"`` (the reference: a global solve per pass).
     """
 
     cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
@@ -100,6 +115,7 @@ class SolverOptions:
                                    "threads")
     fft_planner: str = _opt("estimate", "backend", Choice(("estimate", "measure", "patient")),
                             "planner")
+    cascade: str = _opt("local", "backend", Choice(("local", "global")))
 
     def __post_init__(self):
         check_fields(self, "solver.")
@@ -172,6 +188,42 @@ class Scene:
     solver : SolverOptions, mapping or None
         Numerical options: a complete :class:`SolverOptions` (used as given), or a mapping of the
         knobs that override the preset's, or ``None`` (the preset's). Stored resolved.
+
+    The fields below describe lab scenes. Each is off at its default, which gives exactly the
+    scene above (bitwise), and is stored (and enters a campaign job key) only when it is not at
+    its default.
+
+    lattice : str
+        ``square`` (default) or ``hexagonal`` (n_side pillars per row, n_side rows, every other
+        row shifted by half a pitch; phi is the pillar area over the unit cell s**2 sqrt(3)/2 and
+        the pitch s the nearest-neighbour distance, as for the square lattice; docs/model.md §9).
+        The discrete filling ratio is reported as ``phi_discrete``.
+    heights : str or tuple of float
+        Pillar length law, ``gaussian`` (default), ``exponential`` or ``uniform`` (each of
+        standard deviation sigma~; :mod:`fibril_hpc.heights`), or measured lengths: a ``.csv`` or
+        ``.npy`` file (read once, the values are kept in the scene) or a list, one per pillar.
+    heights_d_c : float or None
+        ``None`` (default): measured lengths are in units of d_c; else d_c in the file's unit.
+    heights_source : str
+        Set when the lengths come from a file: its name and SHA-256 (not part of job keys).
+    k_law : str or tuple of float
+        Per-pillar stiffness: ``one`` (default: every pillar ``k_tilde``), ``lognormal``
+        (k~_n = k_tilde exp(k_spread z_n), z_n standard normal from its own stream of the seed;
+        median ``k_tilde``), or per-pillar k~ values: a ``.csv``/``.npy`` file or a list.
+    k_spread : float
+        Standard deviation of ln k~ of the ``lognormal`` law. Default 0. Range [0, 10].
+    k_source : str
+        Set when the stiffnesses come from a file: its name and SHA-256 (not part of job keys).
+    tip : str
+        ``flat`` (default), ``sphere`` (a spherical cap) or ``rounded`` (a flat tip with a
+        rounded edge); :mod:`fibril_hpc.tips`.
+    tip_radius : float or None
+        Cap radius (>= 0.5) or edge radius (in (0, 0.5]) over the pillar diameter; ``None`` for
+        flat tips.
+    k_machine : float
+        Stiffness of the loading machine, dimensionless like k~ (k_m/(E* L)); ``inf`` (default)
+        is displacement control, small values approach force control
+        (:mod:`fibril_hpc.machine`). Range (0, inf].
     """
 
     n_side: int = _in(18, Int(1, 200))
@@ -186,9 +238,32 @@ class Scene:
     work_of_adhesion: float = _in(1.0, Real(0, 1e12, lo_open=True, hi_open=True))
     preset: str = _in(DEFAULT_PRESET, Choice(PRESET_NAMES))
     solver: SolverOptions | dict | None = None
+    lattice: str = _lab("square", Choice(LATTICES))
+    heights: str | tuple = _lab("gaussian", _heights.HeightsRange())
+    heights_d_c: float | None = _lab(None, Real(0, lo_open=True, hi_open=True,
+                                                none="null (lengths in units of d_c)"))
+    heights_source: str = _lab("", None, key=False)
+    k_law: str | tuple = _lab("one", _heights.KLawRange())
+    k_spread: float = _lab(0.0, Real(0, 10))
+    k_source: str = _lab("", None, key=False)
+    tip: str = _lab("flat", Choice(_tips.TIPS))
+    tip_radius: float | None = _lab(None, Real(0, lo_open=True, hi_open=True, none="null"))
+    k_machine: float = _lab(math.inf, Real(0, lo_open=True,
+                                           note=", or inf (displacement control)"))
 
     def __post_init__(self):
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        if _heights.is_file(self.heights):
+            values, source = _heights.read_file(self.heights)
+            set_("heights", values)
+            set_("heights_source", source)
+        if _heights.is_file(self.k_law):
+            values, source = _heights.read_file(self.k_law, "k_law")
+            set_("k_law", values)
+            set_("k_source", source)
+        for name in ("heights_source", "k_source"):
+            if not isinstance(getattr(self, name), str):
+                raise ConfigError(name, getattr(self, name), "a text")
         pv = preset_values(Choice(PRESET_NAMES).check("preset", self.preset))
         if self.elements_per_diameter is None:      # the preset fills what is not given
             set_("elements_per_diameter", pv["elements_per_diameter"])
@@ -207,6 +282,21 @@ class Scene:
         check_grid(self.n_side, self.phi, self.elements_per_diameter)   # before any work
         if not isinstance(self.solver, SolverOptions):
             raise ConfigError("solver", self.solver, "a mapping of solver options")
+        if not isinstance(self.heights, str) and len(self.heights) != self.n_side**2:
+            raise ConfigError("heights", f"{len(self.heights)} lengths",
+                              f"one length per pillar: n_side**2 = {self.n_side**2}")
+        if isinstance(self.heights, str) and self.heights_d_c is not None:
+            raise ConfigError("heights_d_c", self.heights_d_c,
+                              "null unless heights are measured lengths (a file or a list)")
+        if not isinstance(self.k_law, str) and len(self.k_law) != self.n_side**2:
+            raise ConfigError("k_law", f"{len(self.k_law)} values",
+                              f"one stiffness per pillar: n_side**2 = {self.n_side**2}")
+        if (self.k_law == "lognormal") != (self.k_spread > 0):
+            raise ConfigError("k_spread", self.k_spread,
+                              "a number in (0, 10] with k_law: lognormal, else 0")
+        if self.k_law != "one" and self.rigid:
+            raise ConfigError("k_law", self.k_law, "'one' for rigid pillars (k_tilde: inf)")
+        _tips.check_tip(self.tip, self.tip_radius)
 
     @property
     def rigid(self) -> bool:
@@ -233,10 +323,15 @@ class Scene:
 
     def to_dict(self) -> dict:
         """Plain, YAML/JSON-ready dict of every resolved field (``inf`` kept as a float)."""
-        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "solver"}
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)
+               if f.name != "solver" and not f.metadata.get("extra")}
         for key in ("d_tilde", "F_P"):
             out[key] = None if out[key] is None else list(out[key])
         out["solver"] = dataclasses.asdict(self.solver)
+        for f in dataclasses.fields(self):      # lab fields: only when not at their default
+            if f.metadata.get("extra") and getattr(self, f.name) != f.default:
+                v = getattr(self, f.name)
+                out[f.name] = list(v) if isinstance(v, tuple) else v
         return out
 
 

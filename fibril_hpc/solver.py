@@ -31,8 +31,8 @@ class ConstrainedCG:
     ----------
     operator : HalfSpace
         Provides ``apply(x, out)`` (one FFT pair), ``c0`` and ``geometry``.
-    alpha : float
-        h^2/k (0 for rigid pillars).
+    alpha : float or ndarray
+        h^2/k (0 for rigid pillars); an array of one value per pillar for per-pillar stiffness.
     tol : float
         Relative tolerance (see module docstring).
     maxiter : int
@@ -45,7 +45,8 @@ class ConstrainedCG:
 
         self.op = operator
         self.precond = make_preconditioner(operator.geometry, alpha, operator.c0, preconditioner)
-        self.alpha = float(alpha)
+        # one number, or one per pillar (per-pillar stiffnesses; the kernels take either)
+        self.alpha = alpha if isinstance(alpha, np.ndarray) else float(alpha)
         self.tol = float(tol)
         self.maxiter = int(maxiter)
         g = operator.geometry

@@ -7,7 +7,9 @@ Layout of one result group (a file root for ``fibril-run --out``, or a job group
     pillars/xi, pillars/zeta_tilde                      per pillar, row-major pillar order
     preloads/<i>/  attrs: preload_kind, preload, status, message, F_P, F_A, d_tilde_max,
                           d_tilde_at_F_A, n_pillars_in_contact_max, events
+                          (+ jumps with a compliant machine)
         loading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact}
+                (+ d_machine_tilde with a compliant machine, k_machine < inf)
         unloading/{...}
         at_preload/{force, elongation, contact_map, pressure_map}  (attrs: d_tilde)
         at_pulloff/{...}
@@ -46,6 +48,8 @@ def _write_curve(group, name, curve):
     g = group.create_group(name)
     for key in CURVE_FIELDS:
         g.create_dataset(key, data=np.asarray(getattr(curve, key)))
+    if curve.d_machine_tilde is not None:
+        g.create_dataset("d_machine_tilde", data=np.asarray(curve.d_machine_tilde))
 
 
 def _write_state(group, name, state):
@@ -134,7 +138,8 @@ def _read_curve(group, name):
     if name not in group:
         return None
     g = group[name]
-    return Curve(*(g[k][()] for k in CURVE_FIELDS))
+    return Curve(*(g[k][()] for k in CURVE_FIELDS),
+                 d_machine_tilde=g["d_machine_tilde"][()] if "d_machine_tilde" in g else None)
 
 
 def _read_state(group, name):

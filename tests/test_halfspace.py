@@ -81,7 +81,7 @@ def test_work_arrays_are_the_owned_buffers(geom):
     op = HalfSpace(geom, threads=1)
     bufs = op.pair.work_arrays()
     assert "rows" not in bufs and all(isinstance(a, np.ndarray) for a in bufs.values())
-    assert len(bufs) == 6 and bufs["real_in"] is op.pair.real_in
+    assert len(bufs) == 7 and bufs["real_in"] is op.pair.real_in
     assert set(op.work_arrays()) == {"kernel_hat", "index"}
     table = op.table           # built lazily, on first use
     assert op.work_arrays()["table"] is table

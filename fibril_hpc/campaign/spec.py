@@ -11,6 +11,13 @@ A grid YAML is a mapping::
     F_P: [0.5, 1, 2, 4]         # or d_tilde: [...]; number or list; or auto (see .auto)
     seeds: 10                   # a count (seeds 0..9) or a list of seeds
     group_preloads: true        # jobs sharing (k_tilde, sigma_tilde, seed) share one loading path
+    sweep:                      # optional: lab-scene fields swept like the others (lists)
+      k_machine: [.inf, 1, 0.1]
+      tip_radius: [1, 4]
+
+Every combination (k_tilde, sigma_tilde, preload, seed and the ``sweep`` values) is one job; a
+swept lab field's value is in the job's stored scene (``scene_yaml``). A measured ``heights``
+or stiffness file in ``scene`` is read relative to the YAML's folder.
 
 Every combination (k_tilde, sigma_tilde, preload, seed) is one job. A job's key is the first 16 hex
 digits of the SHA-256 of its resolved single-preload scene (canonical JSON of the fields that
@@ -26,19 +33,24 @@ import hashlib
 import json
 import math
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import yaml
 
 from ..config import read_yaml
 from ..errors import ConfigError
+from ..heights import is_file as is_height_file
 from ..limits import check_job_count
 from ..ranges import range_of
 from ..scene import Scene, SolverOptions, scene_from_dict
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
-            "group_preloads", "description")
+            "group_preloads", "description", "sweep")
+#: scene fields a grid may sweep under ``sweep:`` (the lab fields of :class:`Scene`)
+SWEEPABLE = tuple(f.name for f in fields(Scene) if f.metadata.get("extra") and f.metadata["key"])
+#: scene fields that never enter a job key (provenance only, e.g. a height file's name)
+KEY_EXCLUDED_SCENE = tuple(f.name for f in fields(Scene) if f.metadata.get("key") is False)
 #: solver options that limit resources but do not define a result (left out of job keys):
 #: the ``resource`` options of :class:`~fibril_hpc.scene.SolverOptions`
 KEY_EXCLUDED_SOLVER = SolverOptions.of_kind("resource")
@@ -55,6 +67,7 @@ class Job:
     preload_kind: str
     preload: float
     seed: int
+    extra: tuple = ()       # ((field, value), ...) of the grid's ``sweep`` (empty without one)
 
     def inputs(self) -> dict:
         """The job's identity fields, as stored in its record."""
@@ -92,6 +105,7 @@ class CampaignSpec:
     jobs: list = field(default_factory=list)
     #: ``F_P: auto`` settings (:class:`.auto.AutoPreloads`), None for a fixed preload list
     auto: object = None
+    sweep: dict = field(default_factory=dict)      # field -> tuple of values (``sweep:``)
 
     # ------------------------------------------------------------------ identity
     def resolved(self) -> dict:
@@ -100,10 +114,13 @@ class CampaignSpec:
         for k in SWEPT:
             scene.pop(k, None)
         pre = list(self.preloads) if self.auto is None else {"auto": self.auto.to_dict()}
-        return {"description": self.description, "scene": scene,
-                "k_tilde": list(self.k_tilde), "sigma_tilde": list(self.sigma_tilde),
-                self.preload_kind: pre, "seeds": list(self.seeds),
-                "group_preloads": self.group_preloads}
+        out = {"description": self.description, "scene": scene,
+               "k_tilde": list(self.k_tilde), "sigma_tilde": list(self.sigma_tilde),
+               self.preload_kind: pre, "seeds": list(self.seeds),
+               "group_preloads": self.group_preloads}
+        if self.sweep:
+            out["sweep"] = {k: list(v) for k, v in self.sweep.items()}
+        return out
 
     def resolved_yaml(self) -> str:
         """The resolved campaign as YAML (stored in the file as ``campaign_yaml``)."""
@@ -146,7 +163,7 @@ class CampaignSpec:
     def job_scene(self, job: Job) -> Scene:
         """The single-preload scene of one job (what its key is computed from)."""
         return self.base.replace(k_tilde=job.k_tilde, sigma_tilde=job.sigma_tilde, seed=job.seed,
-                                 **{self.preload_kind: (job.preload,)})
+                                 **{self.preload_kind: (job.preload,)}, **dict(job.extra))
 
     def tasks(self, keys=None) -> list:
         """Tasks for the jobs whose key is in ``keys`` (all when None), in grid order, grouped
@@ -155,14 +172,15 @@ class CampaignSpec:
         jobs = [j for j in self.jobs if want is None or j.key in want]
         groups: dict = {}
         for j in jobs:
-            g = (j.k_tilde, j.sigma_tilde, j.seed) if self.group_preloads else (j.key,)
+            g = (j.k_tilde, j.sigma_tilde, j.seed, j.extra) if self.group_preloads else (j.key,)
             groups.setdefault(g, []).append(j)
         out = []
         for js in groups.values():
             js = sorted(js, key=lambda j: j.preload)
             scene = self.base.replace(k_tilde=js[0].k_tilde, sigma_tilde=js[0].sigma_tilde,
                                       seed=js[0].seed,
-                                      **{self.preload_kind: tuple(j.preload for j in js)})
+                                      **{self.preload_kind: tuple(j.preload for j in js)},
+                                      **dict(js[0].extra))
             out.append(Task(tuple(js), scene))
         return out
 
@@ -179,8 +197,8 @@ def job_key(scene: Scene) -> str:
     dflt = Scene().to_dict()
     solver = {k: v for k, v in d.pop("solver").items()
               if k not in KEY_EXCLUDED_SOLVER and v != dflt["solver"].get(k, object())}
-    d = {k: v for k, v in d.items()
-         if k in ("k_tilde", "sigma_tilde", "seed", "d_tilde", "F_P") or v != dflt.get(k, object())}
+    d = {k: v for k, v in d.items() if k not in KEY_EXCLUDED_SCENE and (
+         k in ("k_tilde", "sigma_tilde", "seed", "d_tilde", "F_P") or v != dflt.get(k, object()))}
     d["solver"] = solver
     text = json.dumps(d, sort_keys=True, allow_nan=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
@@ -209,6 +227,25 @@ def _values(name, v):
     return tuple(out)
 
 
+def _sweep(v) -> dict:
+    """The ``sweep:`` mapping: lab field -> non-empty list of distinct values (each value is
+    checked when the jobs' scenes are built)."""
+    if v is None:
+        return {}
+    if not isinstance(v, dict):
+        raise ConfigError("sweep", v, "a mapping of " + ", ".join(SWEEPABLE) + " to lists")
+    out = {}
+    for name, values in v.items():
+        if name not in SWEEPABLE:
+            raise ConfigError(f"sweep.{name}", values, "a sweepable field: " + ", ".join(SWEEPABLE))
+        items = list(values) if isinstance(values, list) else [values]
+        if not items or len({repr(x) for x in items}) != len(items):
+            raise ConfigError(f"sweep.{name}", values, "a value or a non-empty list of distinct "
+                              "values")
+        out[name] = tuple(items)
+    return out
+
+
 def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSpec:
     """Validate a grid mapping; every problem is a one-line :class:`ConfigError`."""
     if not isinstance(data, dict):
@@ -228,7 +265,12 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         if k in SWEPT:
             allowed = "set at the top level" + (" as seeds" if k == "seed" else f" as {k}")
             raise ConfigError(f"scene.{k}", scene_map[k], allowed + " (it is swept)")
-    base = scene_from_dict(dict(scene_map), where="scene.")
+    scene_map = dict(scene_map)
+    for key in ("heights", "k_law"):          # measured files: relative to the YAML's folder
+        if is_height_file(scene_map.get(key)):
+            scene_map[key] = os.path.join(base_dir, os.path.expanduser(scene_map[key]))
+    base = scene_from_dict(scene_map, where="scene.")
+    sweep = _sweep(data.get("sweep"))
     for name in ("k_tilde", "sigma_tilde"):
         if name not in data:
             raise ConfigError(name, None, "a number or a list of numbers (required)")
@@ -273,8 +315,9 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         raise ConfigError("description", desc, "a text")
     spec = CampaignSpec(base=base, k_tilde=ks, sigma_tilde=ss, preload_kind=kind, preloads=pre,
                         seeds=seeds, group_preloads=group, output=output, source=source,
-                        description=desc, auto=auto)
+                        description=desc, auto=auto, sweep=sweep)
     counts = {"k_tilde": len(ks), "sigma_tilde": len(ss), "seeds": len(seeds)}
+    counts.update({f"sweep.{name}": len(values) for name, values in sweep.items()})
     if auto is None:
         counts[kind] = len(pre)
     check_job_count(counts)                  # before enumerating any job or path
@@ -282,21 +325,29 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         if not group:
             raise ConfigError("group_preloads", group, "true with F_P: auto (a round is one "
                               "loading path)")
+        if sweep:
+            raise ConfigError("sweep", list(sweep), "no sweep with F_P: auto (give the preloads "
+                              "as a list, or one grid per swept value)")
         for path in spec.paths():            # validates every path's scene now
             spec.auto_task(path, auto.start[:1])
         return spec
+    extras = [()]
+    for name, values in sweep.items():
+        extras = [e + ((name, v),) for e in extras for v in values]
     jobs = []
-    for k in ks:
-        for s in ss:
-            for seed in seeds:
-                for p in pre:
-                    job = Job("", len(jobs), k, s, kind, p, seed)
-                    # validates the combination exactly as the solver will see it
-                    try:
-                        scene = spec.job_scene(job)
-                    except ConfigError as exc:  # pragma: no cover - ranges checked above
-                        raise ConfigError(exc.field, exc.value, exc.allowed) from None
-                    jobs.append(Job(job_key(scene), len(jobs), k, s, kind, p, seed))
+    for extra in extras:
+        for k in ks:
+            for s in ss:
+                for seed in seeds:
+                    for p in pre:
+                        job = Job("", len(jobs), k, s, kind, p, seed, extra)
+                        # validates the combination exactly as the solver will see it
+                        try:
+                            scene = spec.job_scene(job)
+                        except ConfigError as exc:
+                            where = "sweep." if exc.field in sweep else ""
+                            raise ConfigError(where + exc.field, exc.value, exc.allowed) from None
+                        jobs.append(Job(job_key(scene), len(jobs), k, s, kind, p, seed, extra))
     spec.jobs = jobs
     return spec
 

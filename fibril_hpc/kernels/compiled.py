@@ -11,6 +11,19 @@ import numpy as np
 jit = nb.njit(cache=True, nogil=True, fastmath=False)
 
 
+def alpha_of(alpha, g):
+    """The spring coefficient h^2/k of group g: ``alpha`` itself when it is one number (every
+    pillar alike: no per-pillar array exists), ``alpha[g]`` for per-pillar stiffnesses."""
+    return alpha if np.ndim(alpha) == 0 else alpha[g]
+
+
+@nb.extending.overload(alpha_of, jit_options={"cache": True})
+def _alpha_of_nb(alpha, g):
+    if isinstance(alpha, nb.types.Array):
+        return lambda alpha, g: alpha[g]
+    return lambda alpha, g: alpha
+
+
 @jit
 def group_sums(x, att, starts, out):
     """out[g] = sum of x over the attached elements of group g."""
@@ -39,11 +52,12 @@ def residual(b, u, x, att, starts, alpha, r):
     rr = 0.0
     for g in range(len(starts) - 1):
         s = 0.0
-        if alpha != 0.0:
+        a = alpha_of(alpha, g)
+        if a != 0.0:
             for i in range(starts[g], starts[g + 1]):
                 if att[i]:
                     s += x[i]
-        s *= alpha
+        s *= a
         for i in range(starts[g], starts[g + 1]):
             if att[i]:
                 v = b[i] - u[i] - s
@@ -60,11 +74,12 @@ def apply_springs(kd, d, att, starts, alpha, q):
     dq = 0.0
     for g in range(len(starts) - 1):
         s = 0.0
-        if alpha != 0.0:
+        a = alpha_of(alpha, g)
+        if a != 0.0:
             for i in range(starts[g], starts[g + 1]):
                 if att[i]:
                     s += d[i]
-        s *= alpha
+        s *= a
         for i in range(starts[g], starts[g + 1]):
             if att[i]:
                 v = kd[i] + s
@@ -82,7 +97,8 @@ def precondition(r, att, starts, alpha, c0, z):
     inv = 1.0 / c0
     for g in range(len(starts) - 1):
         corr = 0.0
-        if alpha != 0.0:
+        a = alpha_of(alpha, g)
+        if a != 0.0:
             s = 0.0
             m = 0
             for i in range(starts[g], starts[g + 1]):
@@ -90,7 +106,7 @@ def precondition(r, att, starts, alpha, c0, z):
                     s += r[i]
                     m += 1
             if m > 0:
-                corr = alpha * s / (c0 * (c0 + alpha * m))
+                corr = a * s / (c0 * (c0 + a * m))
         for i in range(starts[g], starts[g + 1]):
             if att[i]:
                 v = r[i] * inv - corr
@@ -262,3 +278,23 @@ def point_loads(u, iy, ix, idx, vals, table):
             if dx < 0:
                 dx = -dx
             u[j] += v * table[dy, dx]
+
+
+@jit
+def point_loads_at(out, tgt, iy, ix, idx, vals, table):
+    """out[t] += sum_k vals[k] K(x_tgt[t] - x_idx[k]) for the target elements ``tgt`` only."""
+    for t in range(len(tgt)):
+        j = tgt[t]
+        yj = iy[j]
+        xj = ix[j]
+        s = 0.0
+        for k in range(len(idx)):
+            i = idx[k]
+            dy = iy[i] - yj
+            dx = ix[i] - xj
+            if dy < 0:
+                dy = -dy
+            if dx < 0:
+                dx = -dx
+            s += vals[k] * table[dy, dx]
+        out[t] += s

@@ -29,13 +29,13 @@ def group_counts(att, starts, out):
 
 
 def residual(b, u, x, att, starts, alpha, r):
-    s = alpha * _gsum(x, att, starts)[_labels(starts)]
+    s = (alpha * _gsum(x, att, starts))[_labels(starts)]
     r[:] = np.where(att != 0, b - u - s, 0.0)
     return float(r @ r)
 
 
 def apply_springs(kd, d, att, starts, alpha, q):
-    s = alpha * _gsum(d, att, starts)[_labels(starts)]
+    s = (alpha * _gsum(d, att, starts))[_labels(starts)]
     q[:] = np.where(att != 0, kd + s, 0.0)
     return float(d[att != 0] @ q[att != 0])
 
@@ -44,7 +44,8 @@ def precondition(r, att, starts, alpha, c0, z):
     lab = _labels(starts)
     m = np.bincount(lab, weights=(att != 0).astype(float), minlength=len(starts) - 1)
     s = _gsum(r, att, starts)
-    corr = np.where(m > 0, alpha * s / (c0 * (c0 + alpha * m)), 0.0) if alpha != 0 else 0 * s
+    corr = (np.where(m > 0, alpha * s / (c0 * (c0 + alpha * m)), 0.0) if np.any(alpha != 0)
+            else 0 * s)
     z[:] = np.where(att != 0, r / c0 - corr[lab], 0.0)
     return float(r[att != 0] @ z[att != 0])
 
@@ -125,3 +126,9 @@ def update_contact_set(p, g, att, starts, sigma_c, tol_p, tol_g, worst_only):
 def point_loads(u, iy, ix, idx, vals, table):
     for i, v in zip(idx, vals):
         u += v * table[np.abs(iy - iy[i]), np.abs(ix - ix[i])]
+
+
+def point_loads_at(out, tgt, iy, ix, idx, vals, table):
+    """out[t] += sum_k vals[k] K(x_tgt[t] - x_idx[k]) for the target elements ``tgt`` only."""
+    for t, j in enumerate(tgt):
+        out[t] += np.dot(vals, table[np.abs(iy[idx] - iy[j]), np.abs(ix[idx] - ix[j])])
