@@ -93,7 +93,7 @@ def main(argv=None) -> int:
                 runs[cascade].append(run_one(scene_kw, preset, cascade))
                 print(f"  {preset:8s} {cascade:6s} done: {runs[cascade][-1]['cpu_s']:.1f} s CPU "
                       f"(load {runs[cascade][-1]['load_1min']:.1f})", flush=True)
-        for cascade, rs in runs.items():
+        for rs in runs.values():
             row = dict(rs[0])
             row["cpu_s"] = statistics.median(x["cpu_s"] for x in rs)
             row["wall_s"] = statistics.median(x["wall_s"] for x in rs)

@@ -13,7 +13,8 @@ import time
 import numpy as np
 
 from .errors import NoConvergenceError
-from .loading import CurveRecorder, PathDriver
+from .loading import PathDriver
+from .path_records import CurveRecorder
 from .machine import MachineDriver, machine_displacement, make_driver
 from .model import Model, OperatorCache, build_scene_model
 from .results import (STATUS_FAILED, STATUS_OK, Curve, PillarState, PreloadResult,

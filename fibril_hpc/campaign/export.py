@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import csv
 import io
+import os
 
-from ..files import write_text_atomically
+from ..files import write_bytes_atomically, write_text_atomically
 from .data import load_campaign
 from .record import COLUMNS
 
@@ -44,13 +45,10 @@ def export_parquet(path: str, out: str) -> int:
     """Write the jobs of ``path`` to the Parquet file ``out`` (atomically, typed columns);
     returns the rows. Needs pandas and pyarrow."""
     df = load_campaign(path, curves=False).frame()
-    tmp = out + ".part"
-    try:
-        df.to_parquet(tmp, engine="pyarrow", index=False)
-        os.replace(tmp, out)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    buf = io.BytesIO()
+    df.to_parquet(buf, engine="pyarrow", index=False)
+    write_bytes_atomically(out, buf.getvalue(), "writing the Parquet export",
+                           "." + os.path.basename(out) + ".part-")
     return len(df)
 
 

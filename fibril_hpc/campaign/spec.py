@@ -316,10 +316,11 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     spec = CampaignSpec(base=base, k_tilde=ks, sigma_tilde=ss, preload_kind=kind, preloads=pre,
                         seeds=seeds, group_preloads=group, output=output, source=source,
                         description=desc, auto=auto, sweep=sweep)
-    counts = {"k_tilde": len(ks), "sigma_tilde": len(ss), "seeds": len(seeds)}
-    counts.update({f"sweep.{name}": len(values) for name, values in sweep.items()})
+    counts = {"k_tilde": len(ks), "sigma_tilde": len(ss)}
     if auto is None:
         counts[kind] = len(pre)
+    counts["seeds"] = len(seeds)
+    counts.update({f"sweep.{name}": len(values) for name, values in sweep.items()})
     check_job_count(counts)                  # before enumerating any job or path
     if auto is not None:
         if not group:
