@@ -41,29 +41,49 @@ HEIGHT_FILES = (".csv", ".npy")
 K_LAWS = ("one", "lognormal")
 
 
-class KLawRange:
-    """The allowed values of ``k_law``: ``one``, ``lognormal``, a file or a list of k~ > 0."""
+class LawOrValuesRange:
+    """The allowed values of a field that is a law name or per-pillar values (used like the
+    ranges of :mod:`fibril_hpc.ranges`): ``laws``, or a non-empty list of finite numbers, each
+    > 0 (``positive``) or >= 0; files are read by :func:`read_file` before the check."""
+
+    def __init__(self, laws: tuple, text: str, positive: bool):
+        self.laws, self.text, self.positive = laws, text, positive
 
     def allowed(self, plural: bool = False) -> str:  # noqa: ARG002
         """The text of the allowed values."""
-        return ("'one' (every pillar k_tilde), 'lognormal', a .csv or .npy file of per-pillar "
-                "k_tilde, or a list of them (> 0, one per pillar)")
+        return self.text
 
     def check(self, name: str, v):
         """A law name, or the per-pillar values as a tuple of floats."""
         if isinstance(v, str):
-            if v in K_LAWS:
+            if v in self.laws:
                 return v
-            raise ConfigError(name, v, self.allowed())
+            raise ConfigError(name, v, self.text)
         if isinstance(v, np.ndarray):
             v = v.tolist()
         if not isinstance(v, (list, tuple)) or not v:
-            raise ConfigError(name, v, self.allowed())
-        out = [as_float(name, x, self.allowed()) for x in v]
-        for x in out:
-            if not (0 < x < math.inf):
-                raise ConfigError(name, x, self.allowed())
+            raise ConfigError(name, v, self.text)
+        out = []
+        for x in v:
+            x = as_float(name, x, self.text)
+            if not math.isfinite(x) or (x <= 0 if self.positive else x < 0):
+                raise ConfigError(name, x, self.text)
+            out.append(x)
         return tuple(out)
+
+
+def KLawRange() -> LawOrValuesRange:  # noqa: N802 - reads like the range classes
+    """The allowed values of ``k_law``: ``one``, ``lognormal``, a file or a list of k~ > 0."""
+    return LawOrValuesRange(K_LAWS, "'one' (every pillar k_tilde), 'lognormal', a .csv or .npy "
+                            "file of per-pillar k_tilde, or a list of them (> 0, one per pillar)",
+                            positive=True)
+
+
+def HeightsRange() -> LawOrValuesRange:  # noqa: N802 - reads like the range classes
+    """The allowed values of ``heights``: a law, a file or a list of lengths >= 0."""
+    return LawOrValuesRange(HEIGHT_LAWS, "'gaussian', 'exponential', 'uniform', a .csv or .npy "
+                            "file of per-pillar lengths, or a list of them (finite, >= 0, one "
+                            "per pillar)", positive=False)
 
 
 def pillar_stiffness(k_tilde: float, law, spread: float, n: int, seed: int):
@@ -77,33 +97,6 @@ def pillar_stiffness(k_tilde: float, law, spread: float, n: int, seed: int):
         rng = np.random.Generator(np.random.PCG64(seed).jumped())
         return k_tilde * np.exp(spread * rng.standard_normal(n))
     return np.asarray(law, dtype=np.float64)
-
-
-class HeightsRange:
-    """The allowed values of ``heights`` (used like the ranges of :mod:`fibril_hpc.ranges`)."""
-
-    def allowed(self, plural: bool = False) -> str:  # noqa: ARG002
-        """The text of the allowed values."""
-        return ("'gaussian', 'exponential', 'uniform', a .csv or .npy file of per-pillar "
-                "lengths, or a list of them (finite, >= 0, one per pillar)")
-
-    def check(self, name: str, v):
-        """A law name, or the lengths as a tuple of floats (files are read by :func:`read_file`)."""
-        if isinstance(v, str):
-            if v in HEIGHT_LAWS:
-                return v
-            raise ConfigError(name, v, self.allowed())
-        if isinstance(v, np.ndarray):
-            v = v.tolist()
-        if not isinstance(v, (list, tuple)) or not v:
-            raise ConfigError(name, v, self.allowed())
-        out = []
-        for x in v:
-            if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x) \
-                    or x < 0:
-                raise ConfigError(name, x if isinstance(x, (int, float)) else v, self.allowed())
-            out.append(float(x))
-        return tuple(out)
 
 
 def is_file(v) -> bool:
