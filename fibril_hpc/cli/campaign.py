@@ -219,7 +219,7 @@ def cmd_export(args) -> int:
 
     _existing(args.file, "file")
     if not (args.csv or args.parquet):
-        raise ConfigError("export", None, "--csv OUT.csv and/or --parquet OUT.parquet")
+        raise ConfigError("export", "no output given", "--csv OUT.csv and/or --parquet OUT.parquet")
     for opt, path in (("--csv", args.csv), ("--parquet", args.parquet)):
         if path:
             check_writable(path, opt)
