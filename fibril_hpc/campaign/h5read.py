@@ -35,16 +35,6 @@ def _attr(v):
     return v
 
 
-def is_campaign_file(path: str) -> bool:
-    """Whether ``path`` opens as a fibril-hpc campaign file."""
-    """Whether ``path`` is an HDF5 file written by fibril-campaign."""
-    try:
-        with h5py.File(path, "r") as fh:
-            return fh.attrs.get("program") == PROGRAM
-    except Exception:  # noqa: BLE001 - a damaged file raises many kinds of error
-        return False
-
-
 def damaged_error(path: str, exc) -> DamagedFileError:
     """The one-line error of a file whose HDF5 structure cannot be read (points to salvage)."""
     return DamagedFileError(
@@ -231,5 +221,5 @@ def read_h5_records(path: str, curves: bool = True) -> tuple[dict, dict]:
     return got.root, got.records
 
 
-__all__ = ["PROGRAM", "REFS", "H5Read", "damaged_error", "is_campaign_file", "read_root",
+__all__ = ["PROGRAM", "REFS", "H5Read", "damaged_error", "read_root",
            "read_h5_checked", "read_h5_salvage", "read_h5_records", "warn_corrupt"]

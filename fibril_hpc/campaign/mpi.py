@@ -37,6 +37,8 @@ log = logging.getLogger(__name__)
 TAG_TASK = 11
 TAG_RESULT = 12
 POLL_S = 0.02
+
+
 def world():
     """Initialise MPI (lazily) and return COMM_WORLD."""
     from mpi4py import MPI
@@ -44,13 +46,14 @@ def world():
     return MPI.COMM_WORLD
 
 
-def _wait_message(comm, source, tag, stop=None):
+def _wait_message(comm, source, tag):
+    """The next message from ``source`` with ``tag``, polled (a blocked recv burns a core)."""
     from mpi4py import MPI
 
     status = MPI.Status()
     while not comm.Iprobe(source=source, tag=tag, status=status):
         time.sleep(POLL_S)
-    return comm.recv(source=status.Get_source(), tag=tag), status.Get_source()
+    return comm.recv(source=status.Get_source(), tag=tag)
 
 
 def run_master(comm, spec, *, extend=False, retry_failed=False, checkpoint_s=30.0,
@@ -183,7 +186,7 @@ def run_worker(comm) -> int:
     ops = OperatorCache()
     try:
         while True:
-            (kind, payload), _ = _wait_message(comm, 0, TAG_TASK)
+            kind, payload = _wait_message(comm, 0, TAG_TASK)
             if kind == "stop":
                 return payload
             try:

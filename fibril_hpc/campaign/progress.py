@@ -23,7 +23,6 @@ class Progress:
         self.enabled = enabled
         self.t0 = time.monotonic()
         self.done = self.failed = 0
-        self.task_walls = []
         self._last = 0.0
         self.running = 0
 
@@ -34,8 +33,6 @@ class Progress:
                 self.done += 1
             else:
                 self.failed += 1
-        if records:
-            self.task_walls.append(records[0]["wall_s"] / max(1, len(records)))
         self.running = running
         self.show(force)
 

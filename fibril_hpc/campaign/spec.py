@@ -19,12 +19,12 @@ Every combination (k_tilde, sigma_tilde, preload, seed and the ``sweep`` values)
 swept lab field's value is in the job's stored scene (``scene_yaml``). A measured ``heights``
 or stiffness file in ``scene`` is read relative to the YAML's folder.
 
-Every combination (k_tilde, sigma_tilde, preload, seed) is one job. A job's key is the first 16 hex
-digits of the SHA-256 of its resolved single-preload scene (canonical JSON of the fields that
-differ from their defaults, plus k_tilde, sigma_tilde, seed and the preload; without the resource
-and cap options ``solver.fft_threads``, ``solver.max_wall_s``, ``solver.max_events``), so keys
-do not depend on the order of the lists, on other jobs, or on scene fields added later. The
-campaign hash is the SHA-256 of the sorted job keys: two grids with the same set of jobs have the same hash.
+A job's key is the first 16 hex digits of the SHA-256 of its resolved single-preload scene
+(canonical JSON of the fields that differ from their defaults, plus k_tilde, sigma_tilde, seed
+and the preload; without the resource and cap options ``solver.fft_threads``,
+``solver.max_wall_s``, ``solver.max_events``), so keys do not depend on the order of the lists,
+on other jobs, or on scene fields added later. The campaign hash is the SHA-256 of the sorted job
+keys: two grids with the same set of jobs have the same hash.
 """
 
 from __future__ import annotations

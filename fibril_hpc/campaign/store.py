@@ -44,7 +44,7 @@ import numpy as np
 from ..errors import StoreError
 from ..files import write_bytes_atomically
 from . import integrity
-from .h5read import (PROGRAM, REFS, H5Read, damaged_error, is_campaign_file, read_h5_checked,
+from .h5read import (PROGRAM, REFS, H5Read, damaged_error, read_h5_checked,
                      read_h5_records, read_h5_salvage, read_root, warn_corrupt)
 from . import journal as _journal
 from .record import BRANCHES, CURVE_KEYS, SCALAR_KEYS
@@ -246,5 +246,5 @@ def write_merged(path: str, root_attrs: dict, records) -> None:
 
 __all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",
            "read_snapshot", "checkpoint", "root_attrs_for", "write_merged", "write_record",
-           "is_campaign_file", "clean_temporaries", "newer", "accepted_hashes", "H5Read",
+           "clean_temporaries", "newer", "accepted_hashes", "H5Read",
            "Snapshot", "PROGRAM", "REFS"]

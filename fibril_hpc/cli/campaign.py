@@ -259,8 +259,7 @@ def cmd_verify(args) -> int:
     damaged, 2 when the HDF5 structure cannot be read."""
     from ..campaign.verify import verify_file
 
-    if not os.path.isfile(args.file):
-        raise ConfigError("file", args.file, "an existing campaign file")
+    _existing(args.file, "file")       # not a campaign file: one line, exit 2 (not "damaged")
     v = verify_file(args.file)
     if v.damaged:
         return error(PROG, v.damaged)
@@ -273,8 +272,10 @@ def cmd_salvage(args) -> int:
     """Copy every readable, verified record into a new file to resume from."""
     from ..campaign.verify import salvage_file
 
-    if not os.path.isfile(args.file):
-        raise ConfigError("file", args.file, "an existing campaign file")
+    try:
+        _existing(args.file, "file")   # not a campaign file: one line, exit 2
+    except DamagedFileError:
+        pass                           # a damaged one is what salvage is for
     check_writable(args.output, "--output")
     if os.path.exists(args.output):
         raise ConfigError("--output", args.output, "a new file name (it exists)")
