@@ -28,28 +28,26 @@ BYTES_PER_FFT_ELEMENT = 72
 BASE_BYTES = 128 << 20
 
 
-def grid_side(n_side: int, phi: float, elements_per_diameter: float) -> int:
-    """Elements per side of a scene's grid."""
-    from .grid import pitch_elements
+def check_grid(n_side: int, phi: float, elements_per_diameter: float,
+               lattice: str = "square") -> int:
+    """The grid side of the scene's lattice, or a ConfigError when it exceeds
+    :data:`MAX_GRID_SIDE`."""
+    from .grid import Lattice
 
-    return n_side * pitch_elements(phi, elements_per_diameter)
-
-
-def check_grid(n_side: int, phi: float, elements_per_diameter: float) -> int:
-    """The grid side, or a ConfigError when it exceeds :data:`MAX_GRID_SIDE`."""
-    n = grid_side(n_side, phi, elements_per_diameter)
+    n = Lattice.of(n_side, phi, elements_per_diameter, lattice).grid_side
     if n > MAX_GRID_SIDE:
         raise ConfigError("elements_per_diameter", elements_per_diameter,
                           f"a resolution giving at most {MAX_GRID_SIDE} elements per side "
-                          f"(this one gives {n} for n_side={n_side})")
+                          f"(this one gives {n} for n_side={n_side}, lattice {lattice})")
     return n
 
 
 def memory_estimate(scene) -> tuple[int, int, int]:
     """(estimated peak bytes of one ``simulate`` call, grid side, FFT side) of ``scene``."""
     from .greens import padded_size
+    from .grid import Lattice
 
-    n = grid_side(scene.n_side, scene.phi, scene.elements_per_diameter)
+    n = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice).grid_side
     m = padded_size(n)
     return BYTES_PER_FFT_ELEMENT * m * m + BASE_BYTES, n, m
 
@@ -103,4 +101,4 @@ def check_job_count(counts: dict) -> int:
 
 
 __all__ = ["check_grid", "check_memory", "check_job_count", "memory_estimate",
-           "available_memory", "grid_side", "MAX_GRID_SIDE", "MAX_JOBS"]
+           "available_memory", "MAX_GRID_SIDE", "MAX_JOBS"]

@@ -279,7 +279,7 @@ class Scene:
         if self.d_tilde is None and self.F_P is None:
             set_("F_P", (4.0,))
         from .limits import check_grid
-        check_grid(self.n_side, self.phi, self.elements_per_diameter)   # before any work
+        check_grid(self.n_side, self.phi, self.elements_per_diameter, self.lattice)  # before work
         if not isinstance(self.solver, SolverOptions):
             raise ConfigError("solver", self.solver, "a mapping of solver options")
         if not isinstance(self.heights, str) and len(self.heights) != self.n_side**2:

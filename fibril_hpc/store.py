@@ -7,7 +7,7 @@ Layout of one result group (a file root for ``fibril-run --out``, or a job group
     pillars/xi, pillars/zeta_tilde                      per pillar, row-major pillar order
     preloads/<i>/  attrs: preload_kind, preload, status, message, F_P, F_A, d_tilde_max,
                           d_tilde_at_F_A, n_pillars_in_contact_max, events
-                          (+ jumps with a compliant machine)
+                          (+ jumps, F_jump with a compliant machine)
         loading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact}
                 (+ d_machine_tilde with a compliant machine, k_machine < inf)
         unloading/{...}

@@ -167,6 +167,22 @@ def test_bad_lab_input_exit_2_nothing_written(tmp_path, capsys, content, field):
         "bad.csv", "h.csv", "scene.yaml"]
 
 
+def test_grid_limit_uses_the_scene_lattice(tmp_path, capsys):
+    # 7 800 elements per side on a square lattice (allowed) but 8 421 on the wider hexagonal one
+    scene = tmp_path / "scene.yaml"
+    scene.write_text("n_side: 200\nphi: 0.05\nelements_per_diameter: 10\nlattice: hexagonal\n")
+    out = tmp_path / "never.h5"
+    assert run_main([str(scene), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("fibril-run: error: elements_per_diameter")
+    assert "8421" in err[0] and not out.exists()
+    from fibril_hpc import Scene
+    from fibril_hpc.limits import MAX_GRID_SIDE, memory_estimate
+
+    square = Scene(n_side=200, phi=0.05, elements_per_diameter=10, preset="fast")
+    assert memory_estimate(square)[1] == 7800 <= MAX_GRID_SIDE
+
+
 # ------------------------------------------------------------------------------ stiffness
 def test_per_pillar_stiffness_equal_values_and_a_vanishing_spread_are_one_stiffness(opts):
     one = simulate(small(opts))

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import math
-import os
 
+from ..files import save_figure
 from ..presets import PRESETS
 from .study import CASES, TIGHT
 
@@ -147,7 +147,7 @@ def plot(rows: list[dict], path: str) -> None:
                 ("preset", "*", "C3"), ("tight knobs", "^", "C2"))]
     handles.append(plt.Line2D([], [], color="k", lw=0.8, label="Pareto front"))
     axes[0][-1].legend(handles=handles, fontsize=7, loc="best")
-    tmp = path + ".part.png"
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    os.replace(tmp, path)
+    try:
+        save_figure(fig, path, "writing the accuracy plot")   # atomic; a full disk is one line
+    finally:
+        plt.close(fig)

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import csv
+import io
 import math
 import os
 import time
 
 from ..api import simulate
+from ..files import write_text_atomically
 from ..scene import Scene
 from ..analytic import single_pillar_F_A
 from ..presets import PRESETS, preset_values
@@ -120,15 +122,14 @@ def read_rows(path: str) -> list[dict]:
 
 
 def write_csv(path: str, rows: list[dict]) -> None:
-    """Write the rows to ``path`` atomically."""
-    tmp = path + ".part"
-    with open(tmp, "w", newline="", encoding="utf-8") as fh:
-        w = csv.DictWriter(fh, fieldnames=FIELDS, extrasaction="ignore")
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{r[k]:.10g}" if isinstance(r[k], float) else r.get(k, ""))
-                        for k in FIELDS})
-    os.replace(tmp, path)
+    """Write the rows to ``path`` atomically (a full disk is one line: DiskFull)."""
+    buf = io.StringIO(newline="")
+    w = csv.DictWriter(buf, fieldnames=FIELDS, extrasaction="ignore")
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: (f"{r[k]:.10g}" if isinstance(r[k], float) else r.get(k, ""))
+                    for k in FIELDS})
+    write_text_atomically(path, buf.getvalue(), "writing the accuracy table")
 
 
 def _effective(epd, knobs) -> tuple:

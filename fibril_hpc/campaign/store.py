@@ -217,7 +217,8 @@ def root_attrs_for(spec, extended_from=None) -> dict:
     from ..results import json_safe, software_versions
 
     b = spec.base
-    scaling = Lattice.of(b.n_side, b.phi, b.elements_per_diameter).scaling(b.work_of_adhesion)
+    scaling = Lattice.of(b.n_side, b.phi, b.elements_per_diameter, b.lattice).scaling(
+        b.work_of_adhesion)
     defs = dict(scaling.definitions())
     defs["F_A"] = "pull-off force: -min F over the unloading branch, / F_c"
     defs["F_P"] = "force at the end of loading (the preload reached), / F_c"
