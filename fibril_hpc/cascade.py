@@ -55,7 +55,6 @@ class LocalCascade:
             biggest = int(np.diff(self.starts).max()) if len(self.starts) > 1 else 1
             max_elements = max(2 * biggest, int((45.0 * m * m * np.log2(m)) ** (1.0 / 3.0)))
         self.max_elements = int(max_elements)
-        self.local_solves = 0
         self._lab = None
         self._cen = None
 
@@ -83,7 +82,6 @@ class LocalCascade:
             if self.alpha != 0.0:
                 M = M + self.alpha * same[np.ix_(s, s)]
             x[s] = np.linalg.solve(M, rhs[s])
-        self.local_solves += 1
         return x
 
     def solve(self, groups, b, x, x_ref, u, att) -> np.ndarray | None:

@@ -100,11 +100,20 @@ class FFTPair:
             "p1 r2c rows": self._p1.execute,
             "scatter rows": lambda: self._full.__setitem__(self.rows, self._rows_hat),
             "p2 c2c cols": self._p2.execute,
-            "multiply": lambda: np.multiply(self._spec, kernel_hat, out=self._spec),
+            "multiply": lambda: np.multiply(self._spec_ri, self._real_kernel(kernel_hat),
+                                            out=self._prod_ri),
             "p3 c2c cols inv": self._p3.execute,
             "gather rows": lambda: np.take(self._spec, self.rows, axis=0, out=self._rows_back),
             "p4 c2r rows": self._p4.execute,
         }
+
+    def _real_kernel(self, kernel_hat: np.ndarray) -> np.ndarray:
+        """The real kernel transform duplicated per (re, im), made once per kernel: a plain
+        contiguous float64 multiply, measured faster than the complex one and a broadcast one."""
+        if self._kernel_src is not kernel_hat:
+            self._kernel_ri = np.repeat(np.asarray(kernel_hat, np.float64)[:, :, None], 2, axis=2)
+            self._kernel_src = kernel_hat
+        return self._kernel_ri
 
     def convolve(self, kernel_hat: np.ndarray) -> None:
         """real_out <- rows of irfft2(rfft2(padded real_in) * kernel_hat), unnormalised.
@@ -115,13 +124,7 @@ class FFTPair:
             self._p1.execute()
             self._full[self.rows] = self._rows_hat
             self._p2.execute()
-            if self._kernel_src is not kernel_hat:
-                # duplicated per (re, im): a plain contiguous float64 multiply, measured faster
-                # than both the complex multiply and a broadcast one
-                self._kernel_ri = np.repeat(np.asarray(kernel_hat, np.float64)[:, :, None], 2,
-                                            axis=2)
-                self._kernel_src = kernel_hat
-            np.multiply(self._spec_ri, self._kernel_ri, out=self._prod_ri)
+            np.multiply(self._spec_ri, self._real_kernel(kernel_hat), out=self._prod_ri)
             self._p3.execute()
             np.take(self._spec, self.rows, axis=0, out=self._rows_back)
             self._p4.execute()

@@ -85,3 +85,21 @@ def test_work_arrays_are_the_owned_buffers(geom):
     assert set(op.work_arrays()) == {"kernel_hat", "index"}
     table = op.table           # built lazily, on first use
     assert op.work_arrays()["table"] is table
+
+
+
+def test_stages_run_in_order_are_the_product(geom):
+    """FFTPair.stages (what benchmarks/fft_stages.py times) must be the product convolve runs."""
+    hs = HalfSpace(geom)
+    rng = np.random.default_rng(3)
+    p, q = rng.standard_normal((2, geom.n_active))
+    want = hs.apply(p, np.empty_like(p)).copy()
+    hs.apply(q, np.empty_like(q))                    # every internal buffer now holds q's product
+    pair = hs.pair
+    idx = hs.work_arrays()["index"]
+    pair.real_in.reshape(-1)[idx] = p                # p's scatter, as apply does it
+    pair.real_out[...] = 0
+    for stage in pair.stages(hs.kernel_hat).values():
+        stage()
+    got = pair.real_out.reshape(-1)[idx]
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-15 * np.abs(want).max())
