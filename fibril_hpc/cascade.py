@@ -27,7 +27,8 @@ from .kernels import compiled as kern
 
 
 class LocalCascade:
-    """Dense local solves on groups of one model (labels cached on first use; no solver state kept between calls).
+    """Dense local solves on groups of one model (labels cached on first use; no solver state
+    kept between calls).
 
     Parameters
     ----------

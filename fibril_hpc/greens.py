@@ -57,7 +57,8 @@ def love(x, y, h, e_star=E_STAR):
 
 
 #: Relative cost per radix pass of FFTW's codelets, fitted to the measured row-pruned pair at
-#: every 7-smooth candidate for n = 306 and 522 (benchmarks/padded_size.py; benchmarks/NOTES.md §11):
+#: every 7-smooth candidate for n = 306 and 522 (benchmarks/padded_size.py; benchmarks/NOTES.md
+#: §11):
 #: radix 3 is dearer (2.0, was 1.7) and 7 cheaper (3.4, was 3.6) than the first guess, which
 #: picked 1080 for n = 522 where 1050 measured 1.15-1.21x faster.
 _RADIX_COST = {2: 1.0, 3: 2.0, 5: 2.6, 7: 3.4}
