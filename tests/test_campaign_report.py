@@ -153,3 +153,23 @@ def test_a_floor_of_first_contacts_is_not_a_linear_stage():
     assert not g.resolved and "floor" in g.note
     lin = fit.model("tanh", pre, 2.0, 1.0) * (1 + 0.01 * seed)
     assert fit.fit_group(seed, pre, pre, lin, law="tanh", n_boot=50).resolved
+
+
+def test_fit_law_finds_the_least_squares_kink_and_n_boot_zero_skips_the_bootstrap():
+    pre = np.array(PRELOADS * 2)
+    seed = np.repeat([0, 1], len(PRELOADS))
+    y = fit.model("tanh", pre, 2.0, 1.0) * (1 + 0.03 * np.where(seed == 0, 1.0, -1.0))
+    f = fit.fit_law(pre, y, "tanh")
+    # the golden section lands on the minimum of the profiled residual: no kink on a fine grid
+    # around it does better
+    v = np.log(y)
+    for tk in math.log(f.kink) + np.linspace(-0.05, 0.05, 201):
+        g = np.log(fit.model("tanh", pre, math.exp(-tk), 1.0))      # plateau 1, kink e^tk
+        r = v - np.mean(v - g) - g
+        assert math.sqrt(np.mean(r * r)) >= f.rms_log - 1e-12
+    assert abs(f.c / 2.0 - 1) < 0.05 and abs(f.plateau - 1) < 0.05
+    g0 = fit.fit_group(seed, pre, pre, y, law="tanh", n_boot=0)
+    assert g0.ci_method == "fit covariance (bootstrap off)" and g0.c_boot is None
+    assert g0.c_ci[0] < g0.c < g0.c_ci[1]
+    gb = fit.fit_group(seed, pre, pre, y, law="tanh", n_boot=50)
+    assert gb.ci_method == "bootstrap over 2 seeds" and (gb.c, gb.kink) == (g0.c, g0.kink)

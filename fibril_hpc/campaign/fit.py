@@ -20,13 +20,14 @@ with g(t) = min(t, 0) or log tanh(e^t), the law is linear in log P for a fixed k
 profiles log P out and minimises the residual over the kink (a grid, then golden section):
 deterministic, no starting guess, no SciPy.
 
-**Uncertainties.** With two or more seeds: bootstrap over seeds (seeds are the independent
-realisations; ``n_boot`` resamples with replacement, a fixed random seed); the 95 % interval is
-value x/÷ exp(t se), se the standard deviation of the log of the replicates times
-sqrt(n/(n-1)), t the Student-t quantile for n - 1 degrees of freedom (n seeds: with three seeds
-the percentile interval of the replicates would be far too narrow). With one seed: the fit's
-covariance (Gauss-Newton at the optimum, residual variance with n - 2 degrees of freedom,
-Student-t quantile), as intervals in log (so they stay positive).
+**Uncertainties.** With two or more seeds and ``n_boot > 0``: bootstrap over seeds (seeds are
+the independent realisations; ``n_boot`` resamples with replacement, a fixed random seed); the
+95 % interval is value x/÷ exp(t se), se the standard deviation of the log of the replicates
+times sqrt(n/(n-1)), t the Student-t quantile for n - 1 degrees of freedom (n seeds: with three
+seeds the percentile interval of the replicates would be far too narrow). With one seed, or
+``n_boot = 0`` (the report's setting for the laws it only compares): the fit's covariance
+(Gauss-Newton at the optimum, residual variance with n - 2 degrees of freedom, Student-t
+quantile), as intervals in log (so they stay positive).
 
 **Resolved.** The linear stage is *resolved* when at least two preload levels (seed-mean F~_P)
 lie below the kink and the seed-mean F~_A rises across them at least as fast as sqrt(F~_P) (half
@@ -126,12 +127,17 @@ def fit_law(F_P, F_A, law: str = DEFAULT_LAW) -> LawFit:
     i = int(np.argmin(s))
     a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
     gr = (math.sqrt(5.0) - 1.0) / 2.0
+    m1, m2 = b - gr * (b - a), a + gr * (b - a)
+    s1, s2 = sse(m1)[0][0], sse(m2)[0][0]
     for _ in range(60):                       # golden section on the bracketing cells
-        m1, m2 = b - gr * (b - a), a + gr * (b - a)
-        if sse(m1)[0][0] <= sse(m2)[0][0]:
-            b = m2
-        else:
-            a = m1
+        if s1 <= s2:                          # keep [a, m2]; the old m1 is the new m2
+            b, m2, s2 = m2, m1, s1
+            m1 = b - gr * (b - a)
+            s1 = sse(m1)[0][0]
+        else:                                 # keep [m1, b]; the old m2 is the new m1
+            a, m1, s1 = m1, m2, s2
+            m2 = a + gr * (b - a)
+            s2 = sse(m2)[0][0]
     tk = 0.5 * (a + b)
     if sse(grid[i])[0][0] < sse(tk)[0][0]:
         tk = grid[i]
@@ -181,7 +187,7 @@ class GroupFit:
     c_ci: tuple
     plateau_ci: tuple
     kink_ci: tuple
-    ci_method: str                  # "bootstrap over N seeds" or "fit covariance (one seed)"
+    ci_method: str                  # "bootstrap over N seeds" or "fit covariance (...)"
     n_seeds: int
     n_levels: int                   # preload levels (distinct requested preloads)
     n_below: int                    # preload levels whose seed-mean F~_P is below the kink
@@ -232,7 +238,7 @@ def fit_group(seed, preload, F_P, F_A, *, law: str = DEFAULT_LAW, k_tilde=math.n
     if dropped:
         notes.append(f"{dropped} job(s) with F~_A <= 0 or F~_P <= 0 left out of the log fit")
     c_boot = None
-    if seeds.size >= 2:
+    if seeds.size >= 2 and n_boot > 0:
         rng = np.random.default_rng(rng_seed)
         idx = {s: np.flatnonzero(seed == s) for s in seeds}
         bs = []
@@ -248,7 +254,8 @@ def fit_group(seed, preload, F_P, F_A, *, law: str = DEFAULT_LAW, k_tilde=math.n
         method = f"bootstrap over {seeds.size} seeds"
     else:
         cis = _covariance_ci(x, y, f)
-        method = "fit covariance (one seed)"
+        method = ("fit covariance (one seed)" if seeds.size < 2
+                  else "fit covariance (bootstrap off)")
     rising = True
     if below >= 2:
         fa_lev = _levels(preload, y)

@@ -61,7 +61,8 @@ def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
     from .data import load_campaign
 
     c = load_campaign(path, curves=True)
-    fits_by_law = {lw: _fit.fit_campaign(c.jobs, law=lw, n_boot=n_boot)
+    # the other laws enter only the law comparison (residuals, resolved groups): no bootstrap
+    fits_by_law = {lw: _fit.fit_campaign(c.jobs, law=lw, n_boot=n_boot if lw == law else 0)
                    for lw in (law,) + tuple(x for x in _fit.LAWS if x != law)}
     fits = fits_by_law[law]
     if not fits:
