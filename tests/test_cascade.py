@@ -26,11 +26,15 @@ CASES = [
     dict(n_side=4, elements_per_diameter=5, k_tilde=10.0, sigma_tilde=1.0, d_tilde=(1.5,)),
     # 7 x 7 at 4 elements per diameter: pillars beyond LocalCascade.NEAR radii exist (monopole)
     dict(n_side=7, elements_per_diameter=4, k_tilde=0.01, sigma_tilde=0.5),
+    # the diagonal preconditioner (what "auto" picks when footprints differ) under both paths
+    dict(n_side=3, elements_per_diameter=6, k_tilde=1.0, sigma_tilde=0.07, F_P=(2.0,),
+         preconditioner="diagonal"),
 ]
 
 
-def _run(cascade, **kw):
-    r = simulate(Scene(**kw, solver={"fft_threads": 1, "cascade": cascade, "cg_tol": TOL}))
+def _run(cascade, preconditioner="auto", **kw):
+    r = simulate(Scene(**kw, solver={"fft_threads": 1, "cascade": cascade, "cg_tol": TOL,
+                                     "preconditioner": preconditioner}))
     assert r.status == "ok", r.message
     return r
 
