@@ -65,16 +65,29 @@ def main(argv=None) -> int:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--max-wall", type=float, default=1800.0,
                    help="cap per sampled path in seconds (a capped path counts as >= the cap)")
+    p.add_argument("--preset", default=None,
+                   help="run the sample at this accuracy preset (fast, default, accurate) "
+                        "instead of the grid's")
     p.add_argument("--json", help="write the measurements here")
     args = p.parse_args(argv)
 
     from fibril_hpc import simulate
     from fibril_hpc.campaign import load_spec
-    from fibril_hpc.campaign.estimate import (PAIRS_PER_EXTRA_PRELOAD, fft_pair_seconds,
-                                              task_seconds)
+    from fibril_hpc.campaign.estimate import fft_pair_seconds, task_pairs, task_seconds
     from fibril_hpc.model import OperatorCache
 
     spec = load_spec(args.grid)
+    if args.preset is not None:
+        from fibril_hpc.presets import PRESET_NAMES, preset_values
+        from fibril_hpc.scene import SolverOptions
+
+        if args.preset not in PRESET_NAMES:
+            print(f"paper_cost: --preset must be one of {PRESET_NAMES}", file=sys.stderr)
+            return 2
+        spec.base = spec.base.replace(
+            preset=args.preset,
+            elements_per_diameter=preset_values(args.preset)["elements_per_diameter"],
+            solver=SolverOptions.from_preset(args.preset))
     spec.base = spec.base.replace(solver=spec.base.solver.replace(fft_threads=1,
                                                                   max_wall_s=args.max_wall))
     ks, ss = _floats(args.k), _floats(args.sigma)
@@ -84,7 +97,7 @@ def main(argv=None) -> int:
             print(f"paper_cost: --{name} {bad} not in the grid {list(allv)}", file=sys.stderr)
             return 2
     pair_s, m, epp = fft_pair_seconds(spec.base)
-    print(f"grid {spec.base.n_side}^2 pillars, FFT {m}^2, {epp} elements/pillar, "
+    print(f"grid {spec.base.n_side}^2 pillars, preset {spec.base.preset}, FFT {m}^2, {epp} elements/pillar, "
           f"{'F_P auto' if spec.auto else len(spec.preloads)} preloads per path; "
           f"{pair_s * 1e3:.2f} ms per FFT pair (1 thread); "
           f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs", flush=True)
@@ -114,25 +127,32 @@ def main(argv=None) -> int:
     total = sum(nearest(k, s)["cpu_s"] for k in spec.k_tilde for s in spec.sigma_tilde)
     total *= len(spec.seeds)
     capped = any(x["status"] != "ok" for x in samples)
-    per_pillar = [x["fft_pairs"] / (spec.base.n_side ** 2 * math.sqrt(epp)
-                                    * (1 + PAIRS_PER_EXTRA_PRELOAD * (len(x["preloads"]) - 1)))
-                  for x in samples]
+    # the dry run's model for each sample: its preloads as one task (an F_P: auto path's later
+    # rounds are small single-preload tasks; counted in with the first)
+    for x in samples:
+        kind = "d_tilde" if spec.auto is None and spec.base.F_P is None else "F_P"
+        sc = spec.base.replace(**{kind: tuple(x["preloads"])})
+        x["model_fft_pairs"] = task_pairs(sc, epp)
+        x["model_cpu_s"] = task_seconds(sc, pair_s, epp)
     n_paths = len(spec.paths())
-    n_pre = round(sum(len(x["preloads"]) for x in samples) / len(samples))
-    dry_run = task_seconds(spec.base, n_pre, pair_s, epp)
-    out = {"grid": os.path.abspath(args.grid), "jobs": len(spec.jobs),
+    dry_run = sum(x["model_cpu_s"] for x in samples) / len(samples)
+    per_pillar = [x["fft_pairs"] / (spec.base.n_side ** 2 * math.sqrt(epp)) for x in samples]
+    out = {"grid": os.path.abspath(args.grid), "preset": spec.base.preset, "jobs": len(spec.jobs),
            "paths": n_paths, "samples": samples, "ms_per_fft_pair": pair_s * 1e3,
            "core_hours": total / 3600, "lower_bound": capped,
            "mean_path_cpu_s": sum(x["cpu_s"] for x in samples) / len(samples),
-           "pairs_per_pillar_element": sum(per_pillar) / len(per_pillar),
+           "pairs_per_pillar_sqrt_element": sum(per_pillar) / len(per_pillar),
            "dry_run_path_cpu_s": dry_run,
            "fibril_hpc_commit": os.popen(f"git -C {HERE} rev-parse --short HEAD 2>/dev/null")
            .read().strip()}
     cap_note = " (at least: a sample hit the cap)" if capped else ""
-    print(f"estimate: {out['core_hours']:.0f} core-hours{cap_note} "
+    cheap, dear = (f(x["cpu_s"] for x in samples) * n_paths / 3600 for f in (min, max))
+    out["core_hours_range"] = [cheap, dear]
+    print(f"estimate: {out['core_hours']:.1f} core-hours{cap_note} ({cheap:.1f}-{dear:.1f} if "
+          "every path cost the cheapest or the dearest sample) "
           f"for {len(spec.jobs) or 'auto'} jobs in {n_paths} loading paths "
           f"(mean sampled path {out['mean_path_cpu_s']:.0f} s CPU); with N ranks x N/(N-1) for the master; "
-          f"FFT pairs per pillar per sqrt(element) {out['pairs_per_pillar_element']:.1f}; "
+          f"FFT pairs per pillar per sqrt(element) {out['pairs_per_pillar_sqrt_element']:.1f}; "
           f"--dry-run's model: {dry_run:.0f} s per path "
           f"({dry_run / out['mean_path_cpu_s']:.2f}x the mean sampled path)")
     if args.json:

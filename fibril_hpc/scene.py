@@ -86,12 +86,12 @@ class SolverOptions:
     fft_backend : str
         ``"pyfftw"`` (default) or ``"numpy"`` (reference/comparison).
     fft_threads : int or None
-        Threads of the FFT; ``None`` (default) means one. The row-pruned pair is many short
-        batched 1-D transforms, where FFTW's threads cost more than they save on small machines
-        (measurements: ``benchmarks/NOTES.md``), so more threads are opt-in (e.g.
-        ``fibril-campaign --fft-threads`` from Slurm's cpus-per-task). MPI campaigns run one
-        single-threaded job per rank. The numba kernels are serial; BLAS (block preconditioner)
-        follows ``OPENBLAS_NUM_THREADS``.
+        Threads of the FFT and of BLAS; ``None`` (default) means one. The row-pruned pair is many
+        short batched 1-D transforms, where FFTW's threads cost more than they save on small
+        machines, and BLAS threads on the preconditioner's small products cost 1.4-1.8x the CPU
+        time for no gain in wall time (measurements: ``benchmarks/NOTES.md``), so more threads
+        are opt-in (e.g. ``fibril-campaign --fft-threads`` from Slurm's cpus-per-task). MPI
+        campaigns run one single-threaded job per rank. The numba kernels are serial.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
     cascade : str

@@ -102,6 +102,22 @@ def test_dry_run_writes_nothing(tmp_path, capsys):
     assert os.listdir(tmp_path) == ["grid.yaml"]
 
 
+def test_dry_run_model_follows_preloads_preset_and_grid():
+    """The cost model's shape (campaign/estimate.py): the default 18 x 18 scene it was fitted on,
+    more and larger preloads cost more, `fast` less, a d_tilde preload counts as a full one."""
+    from fibril_hpc import Scene
+    from fibril_hpc.campaign.estimate import task_pairs
+
+    one = Scene(F_P=(4.0,))
+    assert task_pairs(one, 45) == pytest.approx(9702, rel=0.05)     # measured (NOTES, issue 8)
+    assert task_pairs(Scene(F_P=(0.01, 4.0)), 45) > task_pairs(one, 45)
+    assert task_pairs(Scene(F_P=(0.01,)), 45) < task_pairs(Scene(F_P=(1.0,)), 45) \
+        < task_pairs(one, 45) == task_pairs(Scene(F_P=(6.5,)), 45)
+    assert task_pairs(Scene(d_tilde=(1.5,)), 45) == task_pairs(one, 45)
+    assert task_pairs(Scene(F_P=(4.0,), preset="fast"), 25) < task_pairs(one, 25)
+    assert task_pairs(Scene(n_side=9, F_P=(4.0,)), 45) == pytest.approx(task_pairs(one, 45) / 4)
+
+
 def test_output_relative_to_yaml_folder_and_override(tmp_path):
     sub = tmp_path / "sub"
     sub.mkdir()

@@ -95,3 +95,34 @@ def test_block_preconditioner_is_the_exact_block_inverse(setup):
             blk = K[np.ix_(on, on)] + alpha
             np.testing.assert_allclose(z[on], np.linalg.solve(blk, r[on]), rtol=1e-9, atol=1e-12)
         assert rz == pytest.approx(float(r @ z))
+
+
+@pytest.mark.parametrize("threads", [None, 2])
+def test_simulate_gives_blas_the_fft_threads_and_restores_the_callers(monkeypatch, threads):
+    """BLAS runs with solver.fft_threads threads (one by default) inside simulate, whatever the
+    caller set, and the caller's setting comes back afterwards."""
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+    import fibril_hpc.api as api
+    from fibril_hpc import Scene, simulate
+
+    def blas_threads():
+        return [i["num_threads"] for i in threadpoolctl.threadpool_info()
+                if i["user_api"] == "blas"]
+
+    if not blas_threads():
+        pytest.skip("no BLAS library loaded that threadpoolctl can see")
+    seen = []
+    build = api.build_scene_model
+
+    def spy(*a, **kw):
+        seen.append(blas_threads())
+        return build(*a, **kw)
+
+    monkeypatch.setattr(api, "build_scene_model", spy)
+    with threadpoolctl.threadpool_limits(limits=3, user_api="blas"):
+        r = simulate(Scene(n_side=1, elements_per_diameter=4, F_P=(0.5,),
+                           solver={"fft_threads": threads}))
+        after = blas_threads()
+    assert r.status == "ok"
+    assert seen and all(n == (threads or 1) for n in seen[0])
+    assert all(n == 3 for n in after)

@@ -1,15 +1,21 @@
 """A rough cost estimate for ``--dry-run`` (no job runs).
 
 cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid) x ``OVERHEAD``.
-Seconds per pair are timed here on the campaign's own grid (about a second); ``OVERHEAD`` is the
-all-in CPU per pair of a whole curve over the bare pair (CG, event search, local cascades); pairs
-per task are modelled as ``PAIRS_PER_PILLAR_ELEMENT`` x pillars x sqrt(elements per pillar) x
-(1 + ``PAIRS_PER_EXTRA_PRELOAD`` (preloads - 1)), fitted to measured curves of this solver (local
-cascades, default preset): 6 x 6 and 8 x 8 brushes at (k~, sigma~) = (0.01, 0.5), (1, 0.07),
-(0.001, 2.1), (10, 0.07) with one preload (F~_P = 4: 2.0-4.9 per pillar sqrt element) and the
-paper grid's 12 (13.6-29.4), and the default 18 x 18 scene (4.5 with one preload); expect it to
-be off by up to ~1.7x either way on single tasks, less on a whole grid. When the output file already holds
-finished jobs, their measured mean wall time per task is used instead.
+Seconds per pair are timed here on the campaign's own grid (about a second, CPU time); ``OVERHEAD``
+is the all-in CPU per pair of a whole path over the bare pair (CG, event search, local cascades).
+Pairs per task are modelled per pillar per sqrt(element per pillar) as
+
+    PRESET_FACTOR[preset] x (PAIRS_LOADING + PAIRS_UNLOADING x sum_i min(1, F~_P,i / F_FULL)^(1/3))
+
+(a loading path, then one unloading per preload, whose cost grows with the contact the preload
+makes, slower than in proportion: small preloads still meet every event of their first contacts;
+a ``d_tilde`` preload counts as a full one). Fitted to measured paths of this solver (local
+cascades, one thread, benchmarks/NOTES.md "Dry-run model"): at the `default` preset the default
+18 x 18 scene (one preload, F~_P = 4) and the paper grid's corners with the fixed twelve-preload
+list (0.05 ... 6.5) and with ``F_P: auto`` (round 0: 0.001 ... 4); `fast` and `accurate` from the
+same paths' ratio. Expect up to ~2x either way on single tasks (soft smooth brushes are cheaper
+than the model, stiff smooth ones dearer), less on a whole grid. When the output file already
+holds finished jobs, their measured mean wall time per task is used instead.
 """
 
 from __future__ import annotations
@@ -19,12 +25,16 @@ import time
 
 import numpy as np
 
-#: FFT pairs per pillar per sqrt(element per pillar) of a one-preload task (see the docstring)
-PAIRS_PER_PILLAR_ELEMENT = 4.0
-#: growth of the pairs per extra preload of a task (12 preloads measured 5.5-6.1x one)
-PAIRS_PER_EXTRA_PRELOAD = 0.45
-#: all-in CPU per FFT pair of a curve over the bare timed pair (measured ~1.5-1.6)
-OVERHEAD = 1.5
+#: FFT pairs per pillar per sqrt(element per pillar) of the loading path of a task
+PAIRS_LOADING = 2.9
+#: ... and of one unloading from a preload that makes full contact
+PAIRS_UNLOADING = 1.6
+#: F~_P from which an unloading costs a full one (below it, as the cube root of F~_P / F_FULL)
+F_FULL = 4.0
+#: work of a preset relative to `default` (looser tolerances and coarser batching at `fast`)
+PRESET_FACTOR = {"fast": 0.4, "default": 1.0, "accurate": 1.0}
+#: all-in CPU per FFT pair of a path over the bare timed pair (measured 1.0-2.4, mean 1.65)
+OVERHEAD = 1.65
 
 
 def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
@@ -52,8 +62,14 @@ def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
     return best, op.m, len(fp)
 
 
-def task_seconds(scene, n_preloads: int, pair_s: float, elements_per_pillar: int) -> float:
-    """Modelled seconds of one task of ``n_preloads`` preloads (see the module docstring)."""
-    pairs = (PAIRS_PER_PILLAR_ELEMENT * scene.n_side ** 2 * math.sqrt(elements_per_pillar)
-             * (1 + PAIRS_PER_EXTRA_PRELOAD * (n_preloads - 1)))
-    return pairs * pair_s * OVERHEAD
+def task_pairs(scene, elements_per_pillar: int) -> float:
+    """Modelled FFT pairs of one task: ``scene`` with its preloads (see the module docstring)."""
+    weights = ([min(1.0, f / F_FULL) ** (1 / 3) for f in scene.F_P] if scene.F_P is not None
+               else [1.0] * len(scene.d_tilde or ()))
+    per = PRESET_FACTOR.get(scene.preset, 1.0) * (PAIRS_LOADING + PAIRS_UNLOADING * sum(weights))
+    return per * scene.n_side ** 2 * math.sqrt(elements_per_pillar)
+
+
+def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
+    """Modelled CPU seconds of one task (``scene`` with its preloads)."""
+    return task_pairs(scene, elements_per_pillar) * pair_s * OVERHEAD

@@ -127,7 +127,7 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                  for t in [spec.auto_task(p, spec.auto.start)]
                  if any(j.key in todo for j in t.jobs)]
     pair_s, m, epp = fft_pair_seconds(spec.base)
-    est = sum(task_seconds(t.scene, len(t.jobs), pair_s, epp) for t in tasks)
+    est = sum(task_seconds(t.scene, pair_s, epp) for t in tasks)
     how = "model"
     if walls:
         est = sum(walls) / len(walls) * len(todo)
