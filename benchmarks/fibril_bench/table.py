@@ -37,9 +37,13 @@ def table_rows(res: dict) -> list:
             f"{cg[0]['fitted_exponent_floor_ms']:.2f}, {cg[0]['fitted_exponent_m2logm']:.2f}")
     for r in res.get("curves", []):
         add("curve", f"{r['preset']} {r['n_side']}x{r['n_side']} N={r['N']} m={r['m']}",
-            "time, CG its, FFT pairs, events, F_A",
+            "time, CG solves, CG its, FFT pairs, events, F_A",
             f"{r['time_s']:.1f} s{'' if r['status'] == 'ok' else ' (' + r['status'] + ')'}, "
-            f"{r['cg_iterations']}, {r['fft_pairs']}, {r['events']}, {_fmt(r['F_A'], '.4f')}")
+            f"{r['cg_solves']}, {r['cg_iterations']}, {r['fft_pairs']}, {r['events']}, "
+            f"{_fmt(r['F_A'], '.4f')}")
+        ev = max(1, r["events"])
+        add("curve", f"{r['preset']}", "per event: CG solves, CG its, FFT pairs",
+            f"{r['cg_solves'] / ev:.1f}, {r['cg_iterations'] / ev:.1f}, {r['fft_pairs'] / ev:.1f}")
         add("curve", f"{r['preset']}", "time per FFT pair / floor",
             f"{r['wall_over_pairs_floor']:.2f}x")
     for r in res.get("memory", []):
