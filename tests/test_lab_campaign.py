@@ -107,3 +107,67 @@ def test_report_shows_the_jump_off_beside_the_peak_when_the_machine_is_swept(tmp
     assert run_serial(spec, progress=False) == 0
     files = write_report(str(tmp_path / "r.h5"), str(tmp_path / "rep2"), n_boot=20)
     assert not any("machine" in f for f in files)
+
+
+# ------------------------------------------------------------------------------ pillar count
+def test_a_pillar_count_is_the_scene_of_its_side():
+    from fibril_hpc import Scene
+    from fibril_hpc.campaign.spec import job_key
+
+    # keys computed by the tree before n_pillars existed (d71b20c, git archive export)
+    assert job_key(Scene()) == "4c1f02b9c2643719"
+    assert job_key(Scene(n_side=6, k_tilde=0.1, F_P=2.0)) == "d568cf103086c81f"
+    assert job_key(Scene(n_side=7, lattice="hexagonal", F_P=1.0)) == "9a75aafcb51091c8"
+    by_count = Scene(n_pillars=36, k_tilde=0.1, F_P=2.0)
+    assert by_count == Scene(n_side=6, k_tilde=0.1, F_P=2.0) and by_count.n_pillars is None
+    assert job_key(by_count) == "d568cf103086c81f" and "n_pillars" not in by_count.to_dict()
+    assert job_key(Scene(n_pillars=49, lattice="hexagonal", F_P=1.0)) == "9a75aafcb51091c8"
+    assert by_count.replace(n_pillars=49).n_side == 7 and by_count.replace(k_tilde=1).n_side == 6
+    assert Scene(n_pillars=1).n_side == 1 and Scene(n_pillars=40000).n_side == 200
+
+
+@pytest.mark.parametrize("kw,text", [
+    (dict(n_pillars=40), "the nearest are 36 (n_side 6) and 49 (n_side 7)"),
+    (dict(n_pillars=50, lattice="hexagonal"), "lattice hexagonal): the nearest are 49"),
+    (dict(n_pillars=36, n_side=6), "give n_side or n_pillars, not both"),
+    (dict(n_pillars=0), "a square number n_side**2 in [1, 40000]"),
+    (dict(n_pillars=2.5), "a square number n_side**2 in [1, 40000]"),
+    (dict(n_pillars=True), "a square number n_side**2 in [1, 40000]"),
+])
+def test_a_bad_pillar_count_is_one_line(kw, text):
+    from fibril_hpc import Scene
+    from fibril_hpc.errors import ConfigError
+
+    with pytest.raises(ConfigError) as e:
+        Scene(**kw)
+    assert e.value.field == "n_pillars" and text in str(e.value) and "\n" not in str(e.value)
+
+
+@pytest.mark.parametrize("content", ["n_pillars: 10\n", "n_side: 3\nn_pillars: 9\n"])
+def test_a_bad_pillar_count_exits_2_writing_nothing(tmp_path, capsys, content):
+    from fibril_hpc.cli.campaign import main as campaign_main
+    from fibril_hpc.cli.run import main as run_main
+
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(content)
+    out = tmp_path / "never.h5"
+    assert run_main([str(scene), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("fibril-run: error: n_pillars")
+    grid = tmp_path / "grid.yaml"
+    grid.write_text("output: never.h5\nk_tilde: 0.1\nsigma_tilde: 0.5\nF_P: 1\nscene:\n  "
+                    + content.strip().replace("\n", "\n  ") + "\n")
+    assert campaign_main([str(grid)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "scene.n_pillars" in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["grid.yaml", "scene.yaml"]
+
+
+def test_a_grid_given_by_pillar_count_has_the_keys_of_its_side(tmp_path):
+    side = spec_from_dict({**GRID, "scene": {**GRID["scene"], "n_side": 3}},
+                          base_dir=str(tmp_path))
+    count = spec_from_dict({**GRID, "scene": {"n_pillars": 9, "elements_per_diameter": 5,
+                                              "solver": {"fft_threads": 1}}},
+                           base_dir=str(tmp_path))
+    assert [j.key for j in count.jobs] == [j.key for j in side.jobs]
+    assert count.campaign_hash == side.campaign_hash and count.resolved() == side.resolved()
