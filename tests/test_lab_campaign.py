@@ -171,3 +171,77 @@ def test_a_grid_given_by_pillar_count_has_the_keys_of_its_side(tmp_path):
                            base_dir=str(tmp_path))
     assert [j.key for j in count.jobs] == [j.key for j in side.jobs]
     assert count.campaign_hash == side.campaign_hash and count.resolved() == side.resolved()
+
+
+# ------------------------------------------------------------------------------ file sweeps
+def _files(folder):
+    (folder / "a.csv").write_text("0.0, 0.5\n1.0, 0.25\n")
+    np.save(folder / "b.npy", np.array([0.2, 0.0, 0.7, 1.3]))
+    (folder / "k.csv").write_text("0.1 0.2 0.05 0.1\n")
+
+
+def test_a_grid_sweeps_measured_files_each_job_recording_its_hash(tmp_path):
+    import hashlib
+
+    import yaml
+
+    _files(tmp_path)
+    sweep = {"heights": ["gaussian", "a.csv", "b.npy"], "k_law": ["one", "k.csv"]}
+    spec = spec_from_dict({**GRID, "sweep": sweep}, base_dir=str(tmp_path))
+    assert len(spec.jobs) == 6 and len({j.key for j in spec.jobs}) == 6
+    # a file swept is the file given in the scene: same job key
+    fixed = spec_from_dict({**GRID, "scene": {**GRID["scene"], "heights": "b.npy",
+                                              "k_law": "k.csv"}}, base_dir=str(tmp_path))
+    assert fixed.jobs[0].key in {j.key for j in spec.jobs}
+    # the law jobs are the plain grid's jobs (a law clears no source it never had)
+    plain = spec_from_dict(GRID, base_dir=str(tmp_path))
+    assert plain.jobs[0].key in {j.key for j in spec.jobs}
+    assert run_serial(spec, progress=False) == 0
+    c = load_campaign(str(tmp_path / "m.h5"))
+    sha = {n: hashlib.sha256((tmp_path / n).read_bytes()).hexdigest()
+           for n in ("a.csv", "b.npy", "k.csv")}
+    seen = set()
+    for j in c.jobs:
+        assert j["status"] == "done"
+        scene = yaml.safe_load(j["scene_yaml"])
+        h, k = scene.get("heights_source", ""), scene.get("k_source", "")
+        seen.add((h.rsplit("/", 1)[-1].split()[0] if h else scene.get("heights", "gaussian"),
+                  k.rsplit("/", 1)[-1].split()[0] if k else "one"))
+        for n, digest in sha.items():
+            if (h + k).count(n):
+                assert f"{n} sha256:{digest}" in h + k
+        if h:
+            assert scene["heights"] == (np.load(tmp_path / "b.npy").tolist() if "b.npy" in h
+                                        else [0.0, 0.5, 1.0, 0.25])
+    assert seen == {(x, y) for x in ("gaussian", "a.csv", "b.npy") for y in ("one", "k.csv")}
+    # the law jobs of a base scene with a measured file drop its source
+    over = spec_from_dict({**GRID, "scene": {**GRID["scene"], "heights": "a.csv"},
+                           "sweep": {"heights": ["uniform", "b.npy"]}}, base_dir=str(tmp_path))
+    scenes = [t.scene for t in over.tasks()]
+    assert [s.heights_source.split()[0].rsplit("/", 1)[-1] if s.heights_source else s.heights
+            for s in scenes] == ["uniform", "b.npy"]
+
+
+@pytest.mark.parametrize("bad,text", [
+    ("missing.csv", "an existing file"),
+    ("nan.csv", "finite lengths >= 0 (value nan at pillar 1)"),
+    ("three.csv", "one value per pillar: n_side**2 = 4 (the file holds 3)"),
+])
+def test_a_bad_file_in_a_sweep_is_one_line_exit_2_nothing_written(tmp_path, capsys, bad, text):
+    from fibril_hpc.cli.campaign import main as campaign_main
+    from fibril_hpc.errors import ConfigError
+
+    _files(tmp_path)
+    (tmp_path / "nan.csv").write_text("1 nan 1 1\n")
+    (tmp_path / "three.csv").write_text("1 1 1\n")
+    with pytest.raises(ConfigError) as e:
+        spec_from_dict({**GRID, "sweep": {"heights": ["a.csv", bad]}}, base_dir=str(tmp_path))
+    assert e.value.field == "sweep.heights" and e.value.value == bad and text in str(e.value)
+    before = sorted(p.name for p in tmp_path.iterdir())
+    grid = tmp_path / "grid.yaml"
+    grid.write_text(f"output: never.h5\nk_tilde: 0.1\nsigma_tilde: 0.5\nF_P: 1\n"
+                    f"scene: {{n_side: 2}}\nsweep: {{heights: [a.csv, {bad}]}}\n")
+    assert campaign_main([str(grid)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "sweep.heights" in err[0] and bad in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(before + ["grid.yaml"])
