@@ -91,6 +91,7 @@ def test_report_shows_the_jump_off_beside_the_peak_when_the_machine_is_swept(tmp
     assert run_serial(spec, progress=False) == 0
     files = write_report(str(tmp_path / "m.h5"), str(tmp_path / "rep"), n_boot=20)
     assert str(tmp_path / "rep" / "machine.csv") in files
+    assert str(tmp_path / "rep" / "machine.png") in files
     with open(tmp_path / "rep" / "machine.csv") as fh:
         rows = list(csv.DictReader(fh))
     c = load_campaign(str(tmp_path / "m.h5"))

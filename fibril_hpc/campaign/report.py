@@ -85,6 +85,9 @@ def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
         ("Plateau over (σ̃, k̃)", figures.plateau_map(fits, out_dir)),
         ("α and σ̃_c against k̃", figures.alpha_sigma_c(fits, out_dir)),
     ]
+    if len(kms) > 1:
+        figs.append(("Peak tension and final jump-off against the machine stiffness",
+                     figures.machine(c.jobs, out_dir)))
     texts = {}
     made = [("alpha_beta", tables.alpha_beta_table(fits)), ("fits", tables.groups_table(fits)),
             ("law_comparison", tables.law_comparison(fits_by_law))]
