@@ -132,6 +132,9 @@ def _run_preloads(model: Model, scene: Scene, driver: PathDriver) -> list[Preloa
                                if len(res.unloading) > 1 else 0.0)
             res.F_A = max(0.0, -br.F_min / sc.F_c)
             res.d_tilde_at_F_A = br.d_at_F_min / sc.d_c
+            if jumps0 is not None:
+                res.d_machine_tilde_at_F_A = float(machine_displacement(
+                    res.d_tilde_at_F_A, br.F_min / sc.F_c, scene.k_machine, sc))
             res.at_pulloff = _pillar_state(model, br.d_at_F_min, br.p_at_min, br.att_at_min)
             res.let_go_d_tilde = br.let_go_d / sc.d_c
             res.events = br.events

@@ -10,7 +10,8 @@ small fraction of the unknowns. The local path instead solves the pillars whose 
 
 where S is the attached part of the local pillars, K_SS their dense influence matrix (the same
 Love coefficients as the FFT product, read from the real-space table) and alpha B B^T the spring
-coupling of elements of one pillar (alpha = h^2/k, 0 for rigid pillars). The contact set of the
+coupling of elements of one pillar (alpha = h^2/k, 0 for rigid pillars; with per-pillar
+stiffnesses alpha_n = h^2/k_n on the pairs of elements of pillar n). The contact set of the
 local pillars is updated with the same rule as the global cascade (detach p < -sigma_c, attach a
 closed gap) and the local solve repeated until it stops changing. The caller then confirms with a
 global solve, which restores the coupling to the rest of the grid; only if that solve flips more
@@ -49,8 +50,10 @@ class LocalCascade:
         self.ix = g.ix
         self.z0 = g.z0
         self.h2 = g.h * g.h
+        # per-pillar stiffnesses: one alpha_n and 1/k_n per pillar (arrays), else numbers
         self.alpha = 0.0 if model.rigid else g.h * g.h / model.k
         self.inv_k = 0.0 if model.rigid else 1.0 / model.k
+        self.per_pillar = model.per_pillar
         if max_elements is None:
             m = model.operator.m
             biggest = int(np.diff(self.starts).max()) if len(self.starts) > 1 else 1
@@ -75,13 +78,28 @@ class LocalCascade:
         iy, ix = self.iy[idx], self.ix[idx]
         return table[np.abs(iy[:, None] - iy[None, :]), np.abs(ix[:, None] - ix[None, :])]
 
-    def _solve_set(self, K, same, att_l, rhs):
+    def _coupling(self, groups, lstarts):
+        """alpha B B^T of the local elements (None for rigid pillars): alpha (alpha_n of pillar
+        n with per-pillar stiffnesses) on every pair of elements of one pillar."""
+        if not self.per_pillar and self.alpha == 0.0:
+            return None
+        lab = np.repeat(np.arange(len(lstarts) - 1), np.diff(lstarts))
+        same = (lab[:, None] == lab[None, :]).astype(np.float64)
+        if not self.per_pillar:
+            return self.alpha * same
+        return same * self.alpha[np.asarray(groups)[lab]][:, None]
+
+    def _inv_k_of(self, groups):
+        """1/k of the local pillars: the number, or the per-pillar values of ``groups``."""
+        return self.inv_k[np.asarray(groups)] if self.per_pillar else self.inv_k
+
+    def _solve_set(self, K, C, att_l, rhs):
         s = np.flatnonzero(att_l)
         x = np.zeros(len(att_l))
         if len(s):
             M = K[np.ix_(s, s)]
-            if self.alpha != 0.0:
-                M = M + self.alpha * same[np.ix_(s, s)]
+            if C is not None:
+                M = M + C[np.ix_(s, s)]
             x[s] = np.linalg.solve(M, rhs[s])
         return x
 
@@ -97,10 +115,9 @@ class LocalCascade:
             return None
         idx, lstarts = el
         K = self._matrix(idx)
-        lab = np.repeat(np.arange(len(lstarts) - 1), np.diff(lstarts))
-        same = (lab[:, None] == lab[None, :]).astype(np.float64)
+        C = self._coupling(groups, lstarts)
         u_far = u[idx] - K @ x_ref[idx]
-        x[idx] = self._solve_set(K, same, att[idx] != 0, b[idx] - u_far)
+        x[idx] = self._solve_set(K, C, att[idx] != 0, b[idx] - u_far)
         return idx
 
     def cascade(self, groups, d, b, p, p_ref, u, g, att, sigma_c, tol_p, tol_g, worst_only,
@@ -130,8 +147,9 @@ class LocalCascade:
         idx, lstarts = el
         n = len(p)
         K = self._matrix(idx)
-        lab = np.repeat(np.arange(len(lstarts) - 1), np.diff(lstarts))
-        same = (lab[:, None] == lab[None, :]).astype(np.float64)
+        C = self._coupling(groups, lstarts)
+        inv_k_l = self._inv_k_of(groups)
+        hk = self.h2 * inv_k_l
         u_far = u[idx] - K @ p_ref[idx]
         rhs = b[idx] - u_far
         att_l = att[idx].copy()
@@ -152,10 +170,10 @@ class LocalCascade:
         fixed = False
         p_l = p[idx].copy()
         for _ in range(max_passes):
-            p_l = self._solve_set(K, same, att_l != 0, rhs)
+            p_l = self._solve_set(K, C, att_l != 0, rhs)
             u_l = u_far + K @ p_l
             kern.group_sums(p_l, att_l, lstarts, f)
-            np.multiply(f, self.h2 * self.inv_k, out=dl)
+            np.multiply(f, hk, out=dl)
             kern.gaps(u_l, lstarts, z0, 1.0, d, dl, g_l)
             p_try, att_try = p_l.copy(), att_l.copy()
             nd, na = kern.update_contact_set(p_try, g_l, att_try, lstarts, sigma_c, tol_p, tol_g,
@@ -163,8 +181,9 @@ class LocalCascade:
             if nd == 0 and na == 0:
                 fixed = True
                 break
-            if not self._trusted(groups, idx, lstarts, K, same, att_l, p_l, g_l, p_ref, att, far_att,
-                                 far_free, m_far_att, m_far_free, thr, tol_g, precond, table):
+            if not self._trusted(groups, idx, lstarts, K, C, inv_k_l, att_l, p_l, g_l, p_ref, att,
+                                 far_att, far_free, m_far_att, m_far_free, thr, tol_g, precond,
+                                 table):
                 break
             p_l, att_l = p_try, att_try
             applied += 1
@@ -200,7 +219,7 @@ class LocalCascade:
         h = self.model.geometry.h
         return (forces[None, :] / np.maximum(r, 0.5)).sum(axis=1) * (h / (np.pi * E_STAR))
 
-    def _trusted(self, groups, idx, lstarts, K, same, att_l, p_l, g_l, p_ref, att, far_att,
+    def _trusted(self, groups, idx, lstarts, K, C, inv_k_l, att_l, p_l, g_l, p_ref, att, far_att,
                  far_free, m_far_att, m_far_free, thr, tol_g, precond, table) -> bool:
         n = len(p_ref)
         iy, ix = self.iy, self.ix
@@ -257,12 +276,12 @@ class LocalCascade:
         s = np.flatnonzero(on)
         if len(s):
             M = K[np.ix_(s, s)]
-            if self.alpha != 0.0:
-                M = M + self.alpha * same[np.ix_(s, s)]
+            if C is not None:
+                M = M + C[np.ix_(s, s)]
             dpl[s] = -np.linalg.solve(M, du_l[s])
         f = np.zeros(len(lstarts) - 1)
         kern.group_sums(dpl, att_l, lstarts, f)
-        dgl = du_l + K @ dpl + np.repeat(f * self.h2 * self.inv_k, np.diff(lstarts))
+        dgl = du_l + K @ dpl + np.repeat(f * self.h2 * inv_k_l, np.diff(lstarts))
         m_att = p_l[on] - thr
         m_free = g_l[~on] + tol_g
         return not (np.any(np.abs(m_att) <= S * np.abs(dpl[on]))

@@ -26,6 +26,33 @@ from .scaling import Scaling
 RNG_NAME = "numpy.random.PCG64 + Generator.standard_normal, row-major pillar order"
 
 
+#: largest pillars per side of a scene (Scene.n_side's range)
+MAX_N_SIDE = 200
+
+
+def n_side_of(n_pillars, lattice: str = "square") -> int:
+    """Pillars per side of a brush of ``n_pillars`` pillars.
+
+    Both lattices hold n_side rows of n_side pillars (the hexagonal one shifts every other row
+    by half a pitch), so the count must be a square number n_side**2 with n_side in
+    [1, MAX_N_SIDE]; anything else is a one-line :class:`ConfigError` naming ``n_pillars`` and
+    the nearest allowed counts.
+    """
+    top = MAX_N_SIDE**2
+    if isinstance(n_pillars, bool) or not isinstance(n_pillars, (int, np.integer)) \
+            or not 1 <= n_pillars <= top:
+        raise ConfigError("n_pillars", n_pillars, f"a square number n_side**2 in [1, {top}] "
+                          f"(n_side rows of n_side pillars, lattice {lattice})")
+    n = int(n_pillars)
+    root = math.isqrt(n)
+    if root * root != n:
+        lo, hi = root, min(root + 1, MAX_N_SIDE)
+        raise ConfigError("n_pillars", n, f"a square number n_side**2 (n_side rows of n_side "
+                          f"pillars, lattice {lattice}): the nearest are {lo * lo} "
+                          f"(n_side {lo}) and {hi * hi} (n_side {hi})")
+    return root
+
+
 @dataclass(frozen=True)
 class Geometry:
     """Elements that can ever touch, grouped (pillar by pillar) into contiguous slices.

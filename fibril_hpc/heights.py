@@ -128,7 +128,7 @@ def read_file(path: str, name: str = "heights") -> tuple[tuple, str]:
     bad = ~np.isfinite(values) | ((values < 0) if name == "heights" else (values <= 0))
     if bad.any():
         what = "finite lengths >= 0" if name == "heights" else "finite stiffnesses > 0"
-        raise ConfigError(name, path, f"{what} (value {values[bad][0]!r} at pillar "
+        raise ConfigError(name, path, f"{what} (value {float(values[bad][0])!r} at pillar "
                           f"{int(np.flatnonzero(bad)[0])})")
     if not len(values):
         raise ConfigError(name, path, "one length per pillar (the file is empty)")

@@ -84,9 +84,7 @@ class PathDriver:
         self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
         self.tol_g = 1e3 * opts.cg_tol * d_c
         self.worst_only = opts.detach_policy == "worst"
-        # per-pillar stiffnesses take the reference (global) cascade
-        self.local = (LocalCascade(model) if opts.cascade == "local" and not model.per_pillar
-                      else None)
+        self.local = LocalCascade(model) if opts.cascade == "local" else None
         self.deadline = (math.inf if opts.max_wall_s is None
                          else time.monotonic() + opts.max_wall_s)
 

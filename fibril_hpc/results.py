@@ -70,6 +70,8 @@ class PreloadResult:
     jumps: int | None = None    # plate jumps of the unloading branch (None: rigid machine)
     F_jump: float | None = None  # force at the jump-off of the final separation, / F_c (tension
     #                              > 0; None: rigid machine, where it is the last event's force)
+    d_machine_tilde_at_F_A: float | None = None  # machine displacement Delta~ at pull-off (None:
+    #                                              rigid machine, where it is d_tilde_at_F_A)
     loading: Curve | None = None
     unloading: Curve | None = None
     at_preload: PillarState | None = None
@@ -89,7 +91,9 @@ class PreloadResult:
             "d_tilde_at_F_A": self.d_tilde_at_F_A,
             "n_pillars_in_contact_max": self.n_pillars_in_contact_max,
             "events": self.events,
-            **({} if self.jumps is None else {"jumps": self.jumps, "F_jump": self.F_jump}),
+            **({} if self.jumps is None else {"jumps": self.jumps, "F_jump": self.F_jump,
+                                              "d_machine_tilde_at_F_A":
+                                                  self.d_machine_tilde_at_F_A}),
         }
 
 

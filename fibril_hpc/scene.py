@@ -15,9 +15,12 @@ from dataclasses import dataclass
 from . import heights as _heights
 from . import tips as _tips
 from .errors import ConfigError
-from .grid import LATTICES
+from .grid import LATTICES, MAX_N_SIDE, n_side_of
 from .presets import DEFAULT_PRESET, PRESET_NAMES, preset_values
 from .ranges import Choice, Flag, Int, Real, check_fields
+
+#: Pillars per side when neither n_side nor n_pillars is given.
+DEFAULT_N_SIDE = 18
 
 #: Largest filling ratio a square lattice of discs can hold (touching discs).
 PHI_MAX = math.pi / 4
@@ -155,7 +158,7 @@ class Scene:
     ----------
     n_side : int
         Pillars per side of the square lattice (n = n_side**2 pillars). Default 18; 1 is a single
-        pillar. Range [1, 200].
+        pillar. Range [1, 200]. Or give ``n_pillars`` instead (not both).
     phi : float
         Nominal filling ratio n*pi*D**2/(4*A0). Default 0.16. Range (0, pi/4).
     k_tilde : float
@@ -224,9 +227,14 @@ class Scene:
         Stiffness of the loading machine, dimensionless like k~ (k_m/(E* L)); ``inf`` (default)
         is displacement control, small values approach force control
         (:mod:`fibril_hpc.machine`). Range (0, inf].
+    n_pillars : int or None
+        The pillar count instead of ``n_side`` (not both): a square number n_side**2, since
+        both lattices hold n_side rows of n_side pillars (:func:`~fibril_hpc.grid.n_side_of`).
+        It is resolved to ``n_side`` at once and then reads ``None``, so a scene given by its
+        count is the very scene (text, job key) given by its side.
     """
 
-    n_side: int = _in(18, Int(1, 200))
+    n_side: int = _in(None, Int(1, MAX_N_SIDE))     # None: 18, or from n_pillars
     phi: float = _in(0.16, Real(0, PHI_MAX, lo_open=True, hi_open=True))
     k_tilde: float = _in(0.01, Real(0, lo_open=True, note=", or inf for rigid pillars"))
     sigma_tilde: float = _in(0.5, Real(0, 1000))
@@ -250,9 +258,19 @@ class Scene:
     tip_radius: float | None = _lab(None, Real(0, lo_open=True, hi_open=True, none="null"))
     k_machine: float = _lab(math.inf, Real(0, lo_open=True,
                                            note=", or inf (displacement control)"))
+    n_pillars: int | None = _lab(None, None, key=False)
 
     def __post_init__(self):
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        if self.n_pillars is not None:          # the count resolves to n_side (then reads None)
+            if self.n_side is not None:
+                raise ConfigError("n_pillars", self.n_pillars, "give n_side or n_pillars, not "
+                                  f"both (n_side: {self.n_side!r})")
+            lattice = self.lattice if self.lattice in LATTICES else "square"
+            set_("n_side", n_side_of(self.n_pillars, lattice))
+            set_("n_pillars", None)
+        elif self.n_side is None:
+            set_("n_side", DEFAULT_N_SIDE)
         if _heights.is_file(self.heights):
             values, source = _heights.read_file(self.heights)
             set_("heights", values)
@@ -319,6 +337,8 @@ class Scene:
             changes["F_P"] = None
         if "F_P" in changes and "d_tilde" not in changes:
             changes["d_tilde"] = None
+        if changes.get("n_pillars") is not None and "n_side" not in changes:
+            changes["n_side"] = None                # the count replaces the side
         return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict:

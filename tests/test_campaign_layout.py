@@ -28,6 +28,11 @@ JOB_ATTRS = {
     "cg_solves": int, "fft_pairs": int, "group_size": int, "rank": int, "host": str,
     "finished": str, "scene_yaml": str, "discretisation": str}
 CURVES = {"d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact"}
+# added by issue 11 (compliant loading machine): stored ONLY in records of a job whose machine is
+# compliant (k_machine < inf), so every rigid-machine record keeps exactly JOB_ATTRS and CURVES
+MACHINE_ATTRS = {"k_machine": float, "jumps": int, "F_jump": float,
+                 "d_machine_tilde_at_F_A": float}
+MACHINE_CURVES = {"d_machine_tilde"}
 KEYS = ["52d55445e650803d", "6cdb31efcacc928f", "9a5a5bc296898b92", "03f94282c0d232fd"]
 DONE_IN_FIXTURE = {"9a5a5bc296898b92", "03f94282c0d232fd"}
 CAMPAIGN_HASH = "673945ce0c7e0c12a6d676aa9c92a731dba3875c381a754498ccb8226d599000"
@@ -101,13 +106,18 @@ def test_old_file_resumes_with_same_layout(tmp_path):
 def test_record_schema_derives_every_list():
     from fibril_hpc.campaign.record import COLUMNS, CURVE_KEYS, SCALAR_KEYS, JobRecord
 
-    assert set(SCALAR_KEYS) == set(JOB_ATTRS) and set(CURVE_KEYS) == CURVES
-    # the CSV header / load_campaign table of 0.1.0, in its order
+    from fibril_hpc.campaign.record import OPTIONAL_CURVE_KEYS
+
+    assert set(SCALAR_KEYS) == set(JOB_ATTRS) | set(MACHINE_ATTRS)
+    assert set(CURVE_KEYS) == CURVES and set(OPTIONAL_CURVE_KEYS) == MACHINE_CURVES
+    # the CSV header / load_campaign table of 0.1.0, in its order, then (deliberately, issue 11)
+    # the compliant machine's columns appended at the end: a reader of the old columns by
+    # position still finds them where they were
     assert COLUMNS == ("key", "k_tilde", "sigma_tilde", "preload_kind", "preload", "seed",
                        "status", "message", "F_P", "F_A", "d_tilde_max", "d_tilde_at_F_A",
                        "n_pillars_in_contact_max", "events", "wall_s", "cg_iterations",
                        "cg_solves", "fft_pairs", "group_size", "rank", "host", "finished",
-                       "record_id")
+                       "record_id", "k_machine", "jumps", "F_jump", "d_machine_tilde_at_F_A")
     with h5py.File(os.path.join(DATA, "campaign_v1.h5"), "r") as fh:
         g = fh["jobs"]["9a5a5bc296898b92"]
         stored = {k: v for k, v in g.attrs.items()}

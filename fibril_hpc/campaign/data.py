@@ -71,6 +71,9 @@ class CampaignData:
             if t is float:
                 data[name] = np.array([math.nan if v is None else float(v) for v in vals],
                                       dtype=float)
+            elif t is int and name in OPTIONAL_INTS:      # a missing value is <NA>, not 0
+                data[name] = pd.array([None if v is None else int(v) for v in vals],
+                                      dtype="Int64")
             elif t is int:
                 data[name] = np.array([0 if v is None else int(v) for v in vals], dtype=np.int64)
             else:
@@ -105,7 +108,26 @@ def column_types() -> dict:
     from .record import JobRecord
 
     names = {"float": float, "int": int, "str": str}
-    return {f.name: names.get(str(f.type), str) for f in fields(JobRecord) if f.name in COLUMNS}
+    return {f.name: names.get(str(f.type).removesuffix(" | None"), str)
+            for f in fields(JobRecord) if f.name in COLUMNS}
+
+
+#: int columns that may be missing (record.py: stored only with a compliant machine)
+OPTIONAL_INTS = ("jumps",)
+
+
+def fill_k_machine(rec: dict) -> dict:
+    """Set a record's missing ``k_machine`` (rigid-machine records and those written before the
+    field existed) from its stored scene: the scene's ``k_machine``, ``inf`` if it names none."""
+    if rec.get("k_machine") is None:
+        text = rec.get("scene_yaml") or ""
+        km = math.inf
+        if "k_machine" in text:
+            import yaml
+
+            km = float((yaml.safe_load(text) or {}).get("k_machine", math.inf))
+        rec["k_machine"] = km
+    return rec
 
 
 def _sort_key(j):
@@ -130,5 +152,5 @@ def load_campaign(path: str, curves: bool = True) -> CampaignData:
         from ..errors import StoreError
 
         raise StoreError(f"{path}: no campaign file here")
-    jobs = sorted(snap.records.values(), key=_sort_key)
+    jobs = sorted((fill_k_machine(r) for r in snap.records.values()), key=_sort_key)
     return CampaignData(snap.root, jobs, snap.pending, snap.corrupt)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import socket
 import time
 import traceback
@@ -84,7 +85,8 @@ def execute_task(task, campaign_hash: str, operators=None, rank: int = 0, stop=N
             fft_pairs=int(stats.get("fft_pairs", 0)),
             group_size=len(task.jobs), rank=rank, host=host, finished=now(),
             scene_yaml=scene_to_yaml(task.scene.replace(**{job.preload_kind: (job.preload,)})),
-            discretisation=disc)
+            discretisation=disc,
+            k_machine=None if math.isinf(task.scene.k_machine) else float(task.scene.k_machine))
         r = by_preload.get(job.preload)
         if result is not None and r is None:
             rec.message = "the solver returned no result for this preload"
@@ -97,6 +99,9 @@ def execute_task(task, campaign_hash: str, operators=None, rank: int = 0, stop=N
             rec.n_pillars_in_contact_max = int(r.n_pillars_in_contact_max)
             rec.events = int(r.events)
             rec.loading, rec.unloading = curve_dict(r.loading), curve_dict(r.unloading)
+            if r.jumps is not None:             # a compliant machine (record.py: else absent)
+                rec.jumps, rec.F_jump = int(r.jumps), float(r.F_jump)
+                rec.d_machine_tilde_at_F_A = float(r.d_machine_tilde_at_F_A)
         out.append(rec.to_dict())
     return out
 

@@ -254,3 +254,33 @@ def alpha_sigma_c(fits, out_dir, name="alpha_sigma_c.png"):
     a2.set_title(f"{SIG}$_c$, 95 % intervals (β > 0 only)")
     fig.tight_layout()
     return _save(fig, out_dir, name)
+
+
+def machine(jobs, out_dir, name="machine.png"):
+    """F~_A (the peak tension) and F_jump (the final jump-off) against the machine stiffness
+    k~_m, seed means per (k~, sigma~, preload), for a grid that sweeps ``k_machine``; a rigid
+    machine (no jump) is left out of F_jump."""
+    plt = _plt()
+    by: dict = {}
+    for j in jobs:
+        km = float(j.get("k_machine", math.inf))
+        if j.get("status") == "done" and math.isfinite(km):
+            key = (j["k_tilde"], j["sigma_tilde"], j["preload"])
+            by.setdefault(key, {}).setdefault(km, []).append(j)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for i, (key, lev) in enumerate(sorted(by.items())):
+        kms = sorted(lev)
+        col = f"C{i % 10}"
+        fa = [np.mean([j["F_A"] for j in lev[k]]) for k in kms]
+        fj = [np.mean([j["F_jump"] for j in lev[k] if j.get("F_jump") is not None] or [math.nan])
+              for k in kms]
+        lab = f"{KT}={key[0]:g}, {SIG}={key[1]:g}, preload {key[2]:g}"
+        ax.plot(kms, fa, "--", color=col, lw=1)
+        ax.plot(kms, fj, "o-", color=col, ms=3, lw=1, label=lab)
+    ax.set_xscale("log")
+    ax.set_xlabel("machine stiffness $\\tilde k_m$")
+    ax.set_ylabel("tension / $F_c$")
+    ax.set_title(f"solid: final jump-off $F_{{jump}}$; dashed: peak {FA}")
+    ax.legend(fontsize=6)
+    fig.tight_layout()
+    return _save(fig, out_dir, name)

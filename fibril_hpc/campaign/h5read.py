@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import DamagedFileError, StoreError
 from . import integrity
-from .record import BRANCHES, CURVE_KEYS
+from .record import BRANCHES, CURVE_KEYS, OPTIONAL_CURVE_KEYS
 
 log = logging.getLogger(__name__)
 
@@ -72,7 +72,8 @@ def _read_group(g) -> dict:
     rec = {k: _attr(v) for k, v in g.attrs.items()}
     for branch in BRANCHES:
         if branch in g:
-            rec[branch] = {k: g[branch][k][()] for k in CURVE_KEYS if k in g[branch]}
+            rec[branch] = {k: g[branch][k][()] for k in CURVE_KEYS + OPTIONAL_CURVE_KEYS
+                           if k in g[branch]}
         else:
             rec[branch] = None
     return rec

@@ -6,6 +6,14 @@ The journal payload (:meth:`JobRecord.to_dict`), the HDF5 attributes and curve g
 from the fields of :class:`JobRecord`. Adding an output quantity is one field here (plus the code
 that fills it in :mod:`.execute`).
 
+The fields after ``unloading`` (``k_machine``, ``jumps``, ``F_jump``, ``d_machine_tilde_at_F_A``)
+came with the compliant loading machine (issue 11). They are ``None`` (not stored: the HDF5 group,
+journal frame and checksum are exactly those of a record written before they existed) unless the
+job's machine is compliant (``k_machine < inf``); so a record without them is a rigid-machine job
+or one written before they existed. :func:`~fibril_hpc.campaign.data.load_campaign` fills a
+missing ``k_machine`` from the stored scene (``inf`` unless it names one); a missing ``jumps`` is
+a missing value (pandas ``<NA>``, empty CSV cell), a missing float NaN.
+
 Records travel as plain dicts (pickled to the MPI master, appended to the journal, read back from
 HDF5); :class:`JobRecord` is their schema and constructor. The names and types are a contract
 with every campaign file ever written (``tests/test_campaign_layout.py`` pins them).
@@ -18,6 +26,8 @@ from dataclasses import dataclass, field, fields
 
 NAN = math.nan
 CURVE_KEYS = ("d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact")
+#: curve arrays stored only where the job has them (a compliant machine's ``d_machine_tilde``)
+OPTIONAL_CURVE_KEYS = ("d_machine_tilde",)
 BRANCHES = ("loading", "unloading")
 
 
@@ -62,6 +72,12 @@ class JobRecord:
     discretisation: str = _field("{}", "JSON of the discretisation", column=False)
     loading: dict | None = _field(None, "curve to the preload", column=False, curve=True)
     unloading: dict | None = _field(None, "curve to pull-off", column=False, curve=True)
+    k_machine: float | None = _field(None, "machine stiffness k~_m (missing: inf, rigid)")
+    jumps: int | None = _field(None, "plate jumps of the unloading branch (compliant machine)")
+    F_jump: float | None = _field(None, "tension at the jump-off of the final separation, / F_c "
+                                        "(compliant machine)")
+    d_machine_tilde_at_F_A: float | None = _field(None, "machine displacement Delta~ at pull-off "
+                                                        "(compliant machine)")
 
     def to_dict(self) -> dict:
         """The plain dict stored in the journal and HDF5 (``type: job`` marks a job record)."""
@@ -81,11 +97,14 @@ COLUMNS = tuple(f.name for f in fields(JobRecord) if f.metadata["column"])
 
 
 def curve_dict(c) -> dict | None:
-    """The stored form of a :class:`~fibril_hpc.results.Curve` (None stays None)."""
+    """The stored form of a :class:`~fibril_hpc.results.Curve` (None stays None): the
+    :data:`CURVE_KEYS`, plus each of :data:`OPTIONAL_CURVE_KEYS` the curve has."""
     if c is None:
         return None
-    return {k: getattr(c, k) for k in CURVE_KEYS}
+    out = {k: getattr(c, k) for k in CURVE_KEYS}
+    out.update({k: getattr(c, k) for k in OPTIONAL_CURVE_KEYS if getattr(c, k) is not None})
+    return out
 
 
-__all__ = ["JobRecord", "SCALAR_KEYS", "CURVE_KEYS", "COLUMNS", "BRANCHES", "FIELD_NAMES",
-           "curve_dict"]
+__all__ = ["JobRecord", "SCALAR_KEYS", "CURVE_KEYS", "OPTIONAL_CURVE_KEYS", "COLUMNS", "BRANCHES",
+           "FIELD_NAMES", "curve_dict"]

@@ -61,8 +61,12 @@ def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
     from .data import load_campaign
 
     c = load_campaign(path, curves=True)
+    kms = tables.machines(c.jobs)
+    # a grid sweeping the machine repeats every (k~, sigma~, preload, seed): the fits take the
+    # stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
+    jobs = [j for j in c.jobs if not kms or j.get("k_machine") == kms[0]]
     # the other laws enter only the law comparison (residuals, resolved groups): no bootstrap
-    fits_by_law = {lw: _fit.fit_campaign(c.jobs, law=lw, n_boot=n_boot if lw == law else 0)
+    fits_by_law = {lw: _fit.fit_campaign(jobs, law=lw, n_boot=n_boot if lw == law else 0)
                    for lw in (law,) + tuple(x for x in _fit.LAWS if x != law)}
     fits = fits_by_law[law]
     if not fits:
@@ -70,10 +74,10 @@ def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
 
         raise StoreError(f"{path}: no done jobs to report on")
     os.makedirs(out_dir, exist_ok=True)
-    means = _means(c.jobs)
+    means = _means(jobs)
     figs = [
         ("Force and contact area against indentation (loading and unloading)",
-         figures.curves(chosen_curve_jobs(c.jobs, fits), out_dir)),
+         figures.curves(chosen_curve_jobs(jobs, fits), out_dir)),
         ("Pull-off force against preload with the fitted law", figures.fa_vs_fp(fits, means,
                                                                                out_dir)),
         ("Adhesion coefficient c against roughness, with the α/σ̃ − β fits",
@@ -82,10 +86,15 @@ def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
         ("Plateau over (σ̃, k̃)", figures.plateau_map(fits, out_dir)),
         ("α and σ̃_c against k̃", figures.alpha_sigma_c(fits, out_dir)),
     ]
+    if len(kms) > 1:
+        figs.append(("Peak tension and final jump-off against the machine stiffness",
+                     figures.machine(c.jobs, out_dir)))
     texts = {}
-    for name, (csv, md) in (("alpha_beta", tables.alpha_beta_table(fits)),
-                            ("fits", tables.groups_table(fits)),
-                            ("law_comparison", tables.law_comparison(fits_by_law))):
+    made = [("alpha_beta", tables.alpha_beta_table(fits)), ("fits", tables.groups_table(fits)),
+            ("law_comparison", tables.law_comparison(fits_by_law))]
+    if len(kms) > 1:
+        made.append(("machine", tables.machine_table(c.jobs)))
+    for name, (csv, md) in made:
         texts[name] = md
         for ext, t in (("csv", csv), ("md", md)):
             p = os.path.join(out_dir, f"{name}.{ext}")
@@ -101,7 +110,13 @@ def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
             f"are several).\n\n## Criteria\n\n**Law per{crit}\n"
             f"## α, β, σ̃_c per k̃ (`alpha_beta.csv`)\n\n{texts['alpha_beta']}\n"
             f"## The laws compared (`law_comparison.csv`)\n\n{texts['law_comparison']}\n"
-            f"## Fit per (k̃, σ̃) (`fits.csv`)\n\n{texts['fits']}\n## Figures\n\n")
+            f"## Fit per (k̃, σ̃) (`fits.csv`)\n\n{texts['fits']}\n")
+    if "machine" in texts:
+        text += (f"## Loading machines (`machine.csv`)\n\nThe grid sweeps the machine stiffness "
+                 f"k̃_m ({', '.join(f'{k:g}' for k in kms)}); the fits above use the jobs of "
+                 f"k̃_m = {kms[0]:g}. F̃_A is the peak tension, F̃_jump the tension at the "
+                 f"jump-off of the final separation (means over seeds).\n\n{texts['machine']}\n")
+    text += "## Figures\n\n"
     text += "".join(f"### {title}\n\n![{title}]({os.path.basename(p)})\n\n" for title, p in figs)
     write_text_atomically(page, text, "writing the report")
     files.append(page)

@@ -14,10 +14,13 @@ A grid YAML is a mapping::
     sweep:                      # optional: lab-scene fields swept like the others (lists)
       k_machine: [.inf, 1, 0.1]
       tip_radius: [1, 4]
+      heights: [gaussian, array_a.csv, array_b.npy]   # laws and/or measured files
 
 Every combination (k_tilde, sigma_tilde, preload, seed and the ``sweep`` values) is one job; a
 swept lab field's value is in the job's stored scene (``scene_yaml``). A measured ``heights``
-or stiffness file in ``scene`` is read relative to the YAML's folder.
+or stiffness (``k_law``) file, in ``scene`` or among the swept values, is read once, relative to
+the YAML's folder; the job's scene keeps its values and, in ``heights_source``/``k_source``,
+its name and SHA-256.
 
 A job's key is the first 16 hex digits of the SHA-256 of its resolved single-preload scene
 (canonical JSON of the fields that differ from their defaults, plus k_tilde, sigma_tilde, seed
@@ -40,6 +43,7 @@ import yaml
 from ..config import read_yaml
 from ..errors import ConfigError
 from ..heights import is_file as is_height_file
+from ..heights import read_file as read_height_file
 from ..limits import check_job_count
 from ..ranges import range_of
 from ..scene import Scene, SolverOptions, scene_from_dict
@@ -246,6 +250,36 @@ def _sweep(v) -> dict:
     return out
 
 
+#: lab fields whose value may be a measured file, and the field that records its name and hash
+FILE_FIELDS = {"heights": "heights_source", "k_law": "k_source"}
+
+
+def _sweep_files(sweep: dict, base: Scene, base_dir: str) -> dict:
+    """{(field, value): ((field, values), (source field, "path sha256:...")), ...} for the swept
+    values of a field that takes files: each file read once, relative to the YAML's folder, and
+    its count checked here, so a bad file is one line naming ``sweep.<field>`` and the file; a
+    law (not a file) clears the source a measured file of the base scene left."""
+    out = {}
+    n = base.n_side**2
+    for name, src in FILE_FIELDS.items():
+        for item in sweep.get(name, ()):
+            if not isinstance(item, str):
+                continue                    # checked with the job's scene
+            if not is_height_file(item):
+                out[(name, item)] = ((name, item), (src, ""))
+                continue
+            path = os.path.join(base_dir, os.path.expanduser(item))
+            try:
+                values, source = read_height_file(path, name)
+            except ConfigError as exc:
+                raise ConfigError(f"sweep.{name}", item, exc.allowed) from None
+            if len(values) != n:
+                raise ConfigError(f"sweep.{name}", item, f"one value per pillar: n_side**2 = {n} "
+                                  f"(the file holds {len(values)})")
+            out[(name, item)] = ((name, values), (src, source))
+    return out
+
+
 def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSpec:
     """Validate a grid mapping; every problem is a one-line :class:`ConfigError`."""
     if not isinstance(data, dict):
@@ -332,9 +366,11 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         for path in spec.paths():            # validates every path's scene now
             spec.auto_task(path, auto.start[:1])
         return spec
+    files = _sweep_files(sweep, base, base_dir)
     extras = [()]
     for name, values in sweep.items():
-        extras = [e + ((name, v),) for e in extras for v in values]
+        extras = [e + ((isinstance(v, str) and files.get((name, v))) or ((name, v),))
+                  for e in extras for v in values]
     jobs = []
     for extra in extras:
         for k in ks:

@@ -14,9 +14,13 @@ Layout (open it with h5py; every number is dimensionless, see the ``definitions`
                          computed the job; shared by its group_size jobs of one loading path),
                          group_size, rank, host, finished (UTC), scene_yaml, discretisation (JSON),
                          checksum ("sha256:..." of the record; absent in records written before
-                         checksums existed, see fibril_hpc/campaign/integrity.py)
+                         checksums existed, see fibril_hpc/campaign/integrity.py);
+                         only with a compliant machine (k_machine < inf; absent otherwise and in
+                         older records): k_machine, jumps, F_jump (tension at the jump-off of the
+                         final separation), d_machine_tilde_at_F_A
         loading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact}   (load to F_P)
         unloading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact} (pull-off)
+                  (+ d_machine_tilde, the machine's displacement, with a compliant machine)
     /job_refs     object references to every /jobs/<key> (a second way to each record that
                   survives damage to the link index of /jobs; used by ``salvage``)
 
@@ -47,7 +51,7 @@ from . import integrity
 from .h5read import (PROGRAM, REFS, H5Read, damaged_error, read_h5_checked,
                      read_h5_records, read_h5_salvage, read_root, warn_corrupt)
 from . import journal as _journal
-from .record import BRANCHES, CURVE_KEYS, SCALAR_KEYS
+from .record import BRANCHES, CURVE_KEYS, OPTIONAL_CURVE_KEYS, SCALAR_KEYS
 from .spec import KEY_EXCLUDED_SOLVER
 
 log = logging.getLogger(__name__)
@@ -148,7 +152,9 @@ def write_record(jobs, rec: dict) -> None:
     stored = {k: rec[k] for k in SCALAR_KEYS if k in rec and rec[k] is not None}
     for branch in BRANCHES:
         c = rec.get(branch)
-        stored[branch] = None if c is None else {k: np.asarray(c[k]) for k in CURVE_KEYS}
+        stored[branch] = None if c is None else {
+            k: np.asarray(c[k]) for k in CURVE_KEYS + OPTIONAL_CURVE_KEYS
+            if k in CURVE_KEYS or c.get(k) is not None}
     stored = integrity.seal(stored)
     g = jobs.create_group(key)
     for k, v in stored.items():
@@ -158,7 +164,7 @@ def write_record(jobs, rec: dict) -> None:
         c = stored[branch]
         if c is not None:
             cg = g.create_group(branch)
-            for k in CURVE_KEYS:
+            for k in c:
                 cg.create_dataset(k, data=c[k])
 
 

@@ -111,3 +111,40 @@ def law_comparison(fits_by_law) -> tuple[str, str]:
         rows.append([lw, _num(rms), str(best), str(n), str(res)])
         md.append(f"| {lw} | {_md(rms, '.4g')} | {best} of {n} | {res} |")
     return _csv(rows), "\n".join(md) + "\n"
+
+
+def machines(jobs) -> list:
+    """The distinct machine stiffnesses k~_m of the done jobs, stiffest (``inf``) first."""
+    return sorted({float(j.get("k_machine", math.inf)) for j in jobs
+                   if j.get("status") == "done"}, reverse=True)
+
+
+def machine_table(jobs) -> tuple[str, str]:
+    """Per (k~, sigma~, preload, k~_m): seed means of F~_P, F~_A (the peak tension) and F~_jump
+    (the tension at the jump-off of the final separation) and the plate's jumps (README,
+    'Compliant loading')."""
+    by: dict = {}
+    for j in jobs:
+        if j.get("status") == "done":
+            key = (j["k_tilde"], j["sigma_tilde"], j["preload"], float(j.get("k_machine",
+                                                                               math.inf)))
+            by.setdefault(key, []).append(j)
+    head = ["k_tilde", "sigma_tilde", "preload", "k_machine", "n_seeds", "F_P", "F_A", "F_jump",
+            "jumps", "note"]
+    rows = [head]
+    md = ["| k̃ | σ̃ | preload | k̃_m | seeds | F̃_P | F̃_A (peak) | F̃_jump (final jump-off) "
+          "| jumps | note |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+
+    def mean(js, name):
+        v = [float(j[name]) for j in js if j.get(name) is not None]
+        return sum(v) / len(v) if v else math.nan
+
+    for (k, s, p, km), js in sorted(by.items(), key=lambda kv: (kv[0][:3], -kv[0][3])):
+        rigid = math.isinf(km)
+        note = "rigid machine: the plate does not jump" if rigid else ""
+        fp, fa, fj, nj = (mean(js, n) for n in ("F_P", "F_A", "F_jump", "jumps"))
+        rows.append([repr(float(k)), repr(float(s)), repr(float(p)), repr(km), str(len(js)),
+                     _num(fp), _num(fa), _num(fj), "" if rigid else _num(nj), note])
+        md.append(f"| {k:g} | {s:g} | {p:g} | {km:g} | {len(js)} | {_md(fp)} | {_md(fa)} | "
+                  f"{_md(fj)} | {'—' if rigid else _md(nj, '.3g')} | {note} |")
+    return _csv(rows), "\n".join(md) + "\n"
