@@ -73,6 +73,8 @@ def discretisation_info(model: Model) -> dict:
         "footprint": "odd pitch, pillar centre on an element centre, element in pillar iff its "
                      "centre is within the nominal radius D/2",
     }
+    if model.options.criterion != "mesh":
+        info["criterion_factor"] = model.criterion_factor
     if grid is not None:
         info.update({
             "pitch_elements": grid.pitch,

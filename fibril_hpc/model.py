@@ -37,6 +37,9 @@ class Model:
     scaling: Scaling
     options: SolverOptions
     grid: PillarGrid | None = None
+    #: sigma_c over the mesh criterion's sqrt(E* dgamma/(kappa h)) (``solver.criterion``;
+    #: :mod:`fibril_hpc.criterion`); 1.0 for the mesh criterion
+    criterion_factor: float = 1.0
 
     @property
     def rigid(self) -> bool:
@@ -56,12 +59,14 @@ class Model:
 
 def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesion: float,
                 scaling: Scaling, options: SolverOptions, grid: PillarGrid | None = None,
-                operator: HalfSpace | None = None, m: int | None = None) -> Model:
+                operator: HalfSpace | None = None, m: int | None = None,
+                criterion_factor: float = 1.0) -> Model:
     """Build a model on any geometry (pillars, or a test-only indenter shape).
 
     ``operator`` reuses an existing :class:`HalfSpace` (FFT plans, buffers, kernel transform); it
     must have been built on a geometry with the same grid and active elements (heights may differ).
     ``m`` sets the padded FFT size of a new operator (default: :func:`~fibril_hpc.greens.padded_size`).
+    ``criterion_factor`` scales the mesh criterion's sigma_c (:mod:`fibril_hpc.criterion`).
     """
     if operator is None:
         op = HalfSpace.from_options(geometry, options, m=m)
@@ -78,8 +83,11 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
     solver = ConstrainedCG(op, alpha, options.cg_tol, options.cg_maxiter,
                            preconditioner=options.preconditioner)
     sigma_c = critical_stress(geometry.h, work_of_adhesion) if adhesion else 0.0
+    if criterion_factor != 1.0:     # the mesh criterion keeps today's sigma_c bit for bit
+        sigma_c *= criterion_factor
     return Model(geometry=geometry, operator=op, solver=solver, k=k, sigma_c=sigma_c,
-                 adhesion=adhesion, scaling=scaling, options=options, grid=grid)
+                 adhesion=adhesion, scaling=scaling, options=options, grid=grid,
+                 criterion_factor=criterion_factor)
 
 
 def scene_lattice(scene: Scene) -> Lattice:
@@ -95,8 +103,10 @@ def scene_scaling(scene: Scene) -> tuple[Scaling, int, tuple]:
 
 def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
                       m: int | None = None) -> Model:
-    """Discretise a pillar scene and build its model (reusing a cached operator if given;
-    ``m`` sets the padded FFT size of a new operator)."""
+    """Discretise a pillar scene and build its model (reusing a cached operator, and a cached
+    criterion factor, if given; ``m`` sets the padded FFT size of a new operator)."""
+    from .criterion import footprint_factor
+
     lat = scene_lattice(scene)
     scaling = lat.scaling(scene.work_of_adhesion)
     sigma = scene.sigma_tilde * scaling.d_c
@@ -111,9 +121,12 @@ def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
     op = None if operators is None else operators.get(scene, grid.geometry)
     k_tilde = pillar_stiffness(scene.k_tilde, scene.k_law, scene.k_spread, scene.n_side**2,
                                scene.seed)
+    factor = (footprint_factor(scene) if operators is None
+              else operators.factor(scene, footprint_factor))
     return build_model(grid.geometry, k=scaling.k(k_tilde), adhesion=scene.adhesion,
                        work_of_adhesion=scene.work_of_adhesion, scaling=scaling,
-                       options=scene.solver, grid=grid, operator=op, m=m)
+                       options=scene.solver, grid=grid, operator=op, m=m,
+                       criterion_factor=factor)
 
 
 class OperatorCache:
@@ -124,6 +137,18 @@ class OperatorCache:
     def __init__(self, maxsize: int = 2):
         self.maxsize = int(maxsize)
         self._ops: dict = {}
+        self._factors: dict = {}
+
+    def factor(self, scene: Scene, compute) -> float:
+        """The detachment criterion's factor of ``scene`` (``compute(scene)``, once per lattice
+        step and accuracy options: it depends on the footprint and the solver's tolerances)."""
+        if scene.solver.criterion == "mesh" or not scene.adhesion:
+            return 1.0
+        k = (scene.n_side, scene.phi, scene_lattice(scene).pitch, scene.lattice,
+             tuple(getattr(scene.solver, n) for n in SolverOptions.of_kind("accuracy")))
+        if k not in self._factors:
+            self._factors[k] = compute(scene)
+        return self._factors[k]
 
     @staticmethod
     def key(scene: Scene) -> tuple:

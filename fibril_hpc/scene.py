@@ -22,6 +22,9 @@ from .ranges import Choice, Flag, Int, Real, check_fields
 #: Pillars per side when neither n_side nor n_pillars is given.
 DEFAULT_N_SIDE = 18
 
+#: Detachment criteria (``SolverOptions.criterion``; :mod:`fibril_hpc.criterion`).
+CRITERIA = ("mesh", "footprint")
+
 #: Largest filling ratio a square lattice of discs can hold (touching discs).
 PHI_MAX = math.pi / 4
 
@@ -33,10 +36,12 @@ PHI_MAX = math.pi / 4
 OPTION_KINDS = ("accuracy", "backend", "resource")
 
 
-def _opt(default, kind: str, rng, operator_arg: str = ""):
+def _opt(default, kind: str, rng, operator_arg: str = "", extra: bool = False):
     meta = {"kind": kind, "range": rng}
     if operator_arg:
         meta["operator_arg"] = operator_arg     # the HalfSpace argument this option sets
+    if extra:
+        meta["extra"] = True    # stored in the scene text only off its default (Scene.to_dict)
     return dataclasses.field(default=default, metadata=meta)
 
 
@@ -102,6 +107,12 @@ class SolverOptions:
         both reach the same fixed point, tested): ``"local"`` (default: the pillars whose set
         changed are solved directly with the rest of the grid held, then one global solve
         confirms) or ``"global"`` (the reference: a global solve per pass).
+    criterion : str
+        Detachment criterion (docs/model.md §5): ``"mesh"`` (default: an element of side h
+        detaches at sigma_c = sqrt(E* dgamma/(kappa h))) or ``"footprint"`` (sigma_c scaled by
+        one factor per pillar footprint and mesh, chosen so that one isolated rigid flat pillar of
+        that footprint pulls off at exactly Kendall's force; :mod:`fibril_hpc.criterion`). Flat
+        tips only. Stored in the scene text, and part of job keys, only off its default.
     """
 
     cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
@@ -119,6 +130,7 @@ class SolverOptions:
     fft_planner: str = _opt("estimate", "backend", Choice(("estimate", "measure", "patient")),
                             "planner")
     cascade: str = _opt("local", "backend", Choice(("local", "global")))
+    criterion: str = _opt("mesh", "accuracy", Choice(CRITERIA), extra=True)
 
     def __post_init__(self):
         check_fields(self, "solver.")
@@ -315,6 +327,10 @@ class Scene:
         if self.k_law != "one" and self.rigid:
             raise ConfigError("k_law", self.k_law, "'one' for rigid pillars (k_tilde: inf)")
         _tips.check_tip(self.tip, self.tip_radius)
+        if self.solver.criterion == "footprint" and self.tip != "flat":
+            raise ConfigError("solver.criterion", self.solver.criterion,
+                              "mesh for tip: " + self.tip + " (the footprint calibration is "
+                              "defined by a flat pillar)")
 
     @property
     def rigid(self) -> bool:
@@ -348,6 +364,11 @@ class Scene:
         for key in ("d_tilde", "F_P"):
             out[key] = None if out[key] is None else list(out[key])
         out["solver"] = dataclasses.asdict(self.solver)
+        filled = preset_values(self.preset)["solver"]
+        for f in dataclasses.fields(SolverOptions):     # new options: only off their default
+            if f.metadata.get("extra") and out["solver"][f.name] == f.default \
+                    and filled.get(f.name, f.default) == f.default:
+                del out["solver"][f.name]
         for f in dataclasses.fields(self):      # lab fields: only when not at their default
             if f.metadata.get("extra") and getattr(self, f.name) != f.default:
                 v = getattr(self, f.name)
