@@ -64,6 +64,8 @@ def test_hdf5_and_plot(scene_file, tmp_path, capsys):
 @pytest.mark.parametrize("content,field", [
     ("k_tilde: -1\n", "k_tilde"), ("n_side: [1\n", "scene"), ("bogus: 1\n", "bogus"),
     ("solver: {cg_tol: 2}\n", "solver.cg_tol"), ("- 1\n- 2\n", "scene"),
+    ("preset: best\n", "preset"), ("solver: {criterion: kendall}\n", "solver.criterion"),
+    ("tip: rounded\ntip_radius: 0.2\nsolver: {criterion: footprint}\n", "solver.criterion"),
 ])
 def test_bad_input_one_line_exit_2_nothing_written(tmp_path, content, field):
     bad = tmp_path / "bad.yaml"

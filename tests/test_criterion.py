@@ -2,8 +2,6 @@
 (sigma_c calibrated so that one isolated rigid flat pillar meets Kendall)."""
 
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -95,19 +93,3 @@ def test_bad_values_are_refused():
         Scene(solver={"criterion": "kendall"})
     with pytest.raises(ConfigError, match=r"solver.criterion: .*mesh for tip: sphere"):
         Scene(tip="sphere", tip_radius=2.0, solver={"criterion": "footprint"})
-
-
-@pytest.mark.parametrize("content", [
-    "solver: {criterion: kendall}\n",
-    "tip: rounded\ntip_radius: 0.2\nsolver: {criterion: footprint}\n",
-])
-def test_cli_one_line_exit_2(tmp_path, content):
-    bad = tmp_path / "bad.yaml"
-    bad.write_text(content)
-    out = tmp_path / "never.json"
-    proc = subprocess.run([sys.executable, "-m", "fibril_hpc.cli", str(bad), "--out", str(out)],
-                          capture_output=True, text=True)
-    assert proc.returncode == 2
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("fibril-run: error: solver.criterion")
-    assert "Traceback" not in proc.stderr and not out.exists()

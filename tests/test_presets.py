@@ -2,8 +2,6 @@
 
 import dataclasses
 import json
-import subprocess
-import sys
 
 import h5py
 import pytest
@@ -71,18 +69,6 @@ def test_cli_records_the_preset(tmp_path, capsys):
     assert out["scene"]["solver"]["event_merge"] == PRESETS["fast"]["solver"]["event_merge"]
     with h5py.File(h5, "r") as f:
         assert "preset: fast" in f.attrs["scene_yaml"]
-
-
-def test_cli_bad_preset_one_line_exit_2_nothing_written(tmp_path):
-    bad = tmp_path / "bad.yaml"
-    bad.write_text("preset: best\n")
-    out = tmp_path / "never.h5"
-    proc = subprocess.run([sys.executable, "-m", "fibril_hpc.cli", str(bad), "--out", str(out)],
-                          capture_output=True, text=True)
-    assert proc.returncode == 2
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("fibril-run: error: preset")
-    assert not out.exists()
 
 
 def test_campaign_jobs_inherit_the_preset(tmp_path):
