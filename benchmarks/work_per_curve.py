@@ -47,8 +47,12 @@ def _git() -> dict:
 def run_one(scene_kw: dict, preset: str, cascade: str) -> dict:
     from fibril_hpc import Scene, simulate
 
-    scene = Scene(**scene_kw, preset=preset,
-                  solver={"fft_threads": 1, "cascade": cascade})
+    # a path is "CASCADE" or "CASCADE:PRECONDITIONER" (e.g. local:two_level)
+    casc, _, pc = cascade.partition(":")
+    solver = {"fft_threads": 1, "cascade": casc}
+    if pc:
+        solver["preconditioner"] = pc
+    scene = Scene(**scene_kw, preset=preset, solver=solver)
     load0 = os.getloadavg()[0]
     t0 = time.process_time()
     r = simulate(scene)
@@ -72,7 +76,8 @@ def main(argv=None) -> int:
     p.add_argument("--k", type=float, default=None, help="k_tilde (default: the Scene default)")
     p.add_argument("--sigma", type=float, default=None, help="sigma_tilde")
     p.add_argument("--F-P", type=float, nargs="+", default=None, help="force preload(s)")
-    p.add_argument("--paths", nargs="+", default=["global", "local"])
+    p.add_argument("--paths", nargs="+", default=["global", "local"],
+                   help="cascade paths, each CASCADE or CASCADE:PRECONDITIONER")
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     args = p.parse_args(argv)
     scene_kw = {}
@@ -99,7 +104,9 @@ def main(argv=None) -> int:
             row["wall_s"] = statistics.median(x["wall_s"] for x in rs)
             row["repeats"] = len(rs)
             rows.append(row)
-    ref = {r["preset"]: r for r in rows if r["cascade"] == "global"}
+    # differences and ratios are taken against the first path given (the global reference
+    # by default)
+    ref = {r["preset"]: r for r in rows if r["cascade"] == args.paths[0]}
     for r in rows:
         ev = max(r["events"], 1)
         r["pairs_per_event"] = r["fft_pairs"] / ev
@@ -112,14 +119,14 @@ def main(argv=None) -> int:
         r["pairs_ratio_vs_global"] = g["fft_pairs"] / r["fft_pairs"] if g and r["fft_pairs"] else math.nan
         r["cpu_ratio_vs_global"] = g["cpu_s"] / r["cpu_s"] if g and r["cpu_s"] else math.nan
 
-    hdr = (f"{'preset':8s} {'path':6s} {'el/D':>5s} {'m':>5s} {'pairs':>7s} {'solves':>6s} "
+    hdr = (f"{'preset':8s} {'path':18s} {'el/D':>5s} {'m':>5s} {'pairs':>7s} {'solves':>6s} "
            f"{'iters':>7s} {'events':>6s} {'pairs/ev':>8s} {'sol/ev':>6s} {'it/ev':>6s} "
            f"{'CPU s':>7s} {'F~_A':>11s} {'F~_P':>9s} {'dF_A rel':>9s} {'dF_P rel':>9s} "
            f"{'pairs x':>7s} {'CPU x':>6s}")
     lines = [hdr]
     for r in rows:
         lines.append(
-            f"{r['preset']:8s} {r['cascade']:6s} {r['elements_per_diameter']:5.1f} "
+            f"{r['preset']:8s} {r['cascade']:18s} {r['elements_per_diameter']:5.1f} "
             f"{r['fft_size']:5d} {r['fft_pairs']:7d} {r['cg_solves']:6d} {r['cg_iterations']:7d} "
             f"{r['events']:6d} {r['pairs_per_event']:8.2f} {r['solves_per_event']:6.2f} "
             f"{r['iterations_per_event']:6.2f} {r['cpu_s']:7.1f} {r['F_A']:11.8f} "

@@ -140,7 +140,8 @@ class PathDriver:
                 if len(groups):
                     out = self.local.cascade(groups, self.d, self._b, self.p, self.p_ref, self.u,
                                              self.g, self.att, m.sigma_c, self.tol_p, self.tol_g,
-                                             self.worst_only, m.solver.precond)
+                                             self.worst_only,
+                                             m.solver.precond.one_level)
                     if out is not None and out[0]:
                         # the set changed: a local fixed point is confirmed at full tolerance
                         # at once; an untrusted proposal is an intermediate (loose) pass

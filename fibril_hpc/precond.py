@@ -10,7 +10,9 @@
   Fully attached pillars share one inverse and are applied as one matrix product; partly attached
   ones get their own inverse, cached by attachment pattern and rebuilt only when it changes.
 
-Both expose ``update(att)`` (called at the start of every solve) and ``apply(r, att, z) -> r.z``.
+Both expose ``update(att)`` (called at the start of every solve), ``apply(r, att, z) -> r.z`` and
+``one_level`` (themselves). ``"two_level"`` adds a coarse pillar-force level to the block one
+(:mod:`fibril_hpc.coarse`); its ``one_level`` is the block one.
 """
 
 from __future__ import annotations
@@ -31,6 +33,11 @@ class DiagonalPreconditioner:
         self.starts = geometry.starts
         self.alpha = alpha if isinstance(alpha, np.ndarray) else float(alpha)
         self.c0 = float(c0)
+
+    @property
+    def one_level(self):
+        """This preconditioner (it has no coarse level)."""
+        return self
 
     def update(self, att) -> None:
         """Prepare for a solve on the attached set ``att``."""
@@ -90,6 +97,11 @@ class BlockPreconditioner:
         self._partial: dict = {}          # group -> (local indices, inverse)
         self._zg = np.zeros((self.ng, m))
         self.updates = 0
+
+    @property
+    def one_level(self):
+        """This preconditioner (it has no coarse level)."""
+        return self
 
     def work_arrays(self) -> dict:
         """The arrays this preconditioner owns, cached partial inverses included, by name (for
@@ -159,14 +171,21 @@ class BlockPreconditioner:
 
 
 def make_preconditioner(geometry, alpha: float, c0: float, kind: str = "auto",
-                        max_block: int = 1024):
-    """``"block"`` where the geometry allows it (``"auto"``), else ``"diagonal"``."""
+                        max_block: int = 1024, max_coarse: int = 1024):
+    """``"block"`` where the geometry allows it (``"auto"``), else ``"diagonal"``; ``"two_level"``
+    (block plus a coarse pillar level) on request, where ``"block"`` would be possible."""
     if kind == "diagonal":
         return DiagonalPreconditioner(geometry, alpha, c0)
     m = uniform_footprint(geometry)
+    if kind == "two_level" and m is not None and m <= max_block:
+        if geometry.n_groups > max_coarse:     # a dense coarse matrix per set change
+            raise ValueError(f"two_level preconditioner needs at most {max_coarse} pillars "
+                             f"(got {geometry.n_groups})")
+        from .coarse import TwoLevelPreconditioner
+        return TwoLevelPreconditioner(geometry, alpha)
     if m is not None and m <= max_block:
         return BlockPreconditioner(geometry, alpha)
-    if kind == "block":
-        raise ValueError("block preconditioner needs groups with one shared footprint of at "
+    if kind != "auto":
+        raise ValueError(f"{kind} preconditioner needs groups with one shared footprint of at "
                          f"most {max_block} elements")
     return DiagonalPreconditioner(geometry, alpha, c0)

@@ -87,7 +87,10 @@ class SolverOptions:
         simulation with that reason (campaigns use it to turn a runaway job into a failed record).
     preconditioner : str
         ``"auto"`` (default: exact per-pillar block Jacobi where all pillars share one footprint,
-        else the diagonal one), ``"block"`` or ``"diagonal"`` (c0 I + alpha B B^T).
+        else the diagonal one), ``"block"``, ``"diagonal"`` (c0 I + alpha B B^T) or ``"two_level"``
+        (block Jacobi plus a coarse level of one pillar force per pillar in contact, for brushes
+        of one footprint and at most 1024 pillars: same answers, fewer CG iterations; see
+        :mod:`fibril_hpc.coarse`).
     detach_policy : str
         ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``
         (only the most supercritical element of each pillar per pass). Default ``"all"``.
@@ -122,7 +125,8 @@ class SolverOptions:
     load_event_merge: float = _opt(1e-2, "accuracy", Real(0, 1))
     max_events: int = _opt(1_000_000, "resource", Int(1, 10**9))
     max_wall_s: float | None = _opt(None, "resource", Real(0, lo_open=True, none="null"))
-    preconditioner: str = _opt("auto", "accuracy", Choice(("auto", "block", "diagonal")))
+    preconditioner: str = _opt("auto", "accuracy",
+                               Choice(("auto", "block", "diagonal", "two_level")))
     detach_policy: str = _opt("all", "accuracy", Choice(("all", "worst")))
     fft_backend: str = _opt("pyfftw", "backend", Choice(("pyfftw", "numpy")), "backend")
     fft_threads: int | None = _opt(None, "resource", Int(1, 1024, none="null (one thread)"),

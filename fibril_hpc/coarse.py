@@ -1,0 +1,83 @@
+"""A coarse pillar-level second level for the block-Jacobi preconditioner (experiment, issue 8).
+
+One unknown per pillar in contact: Z_g = M_g^-1 1 on pillar g's attached elements (M the exact
+block-Jacobi preconditioner of :mod:`fibril_hpc.precond`, so Z_g is the block-Jacobi shape of a
+unit force on the pillar), E = Z^T A Z with the exact diagonal E_gg = 1^T M_g^-1 1 and point-force
+off-diagonals E_gh = W_g W_h K(c_g - c_h), W_g the sum of Z_g and K Love's coefficient at the
+offset of the pillar centres. Applied as
+
+    z = M^-1 r + Z (E^-1 - D^-1) Z^T r,   D = diag E.
+
+Per pillar, M_g^-1 - Z_g D_g^-1 Z_g^T is M_g^-1 with its force mode projected out (positive
+semidefinite), so the block-Jacobi's own answer for the force mode is replaced by the coupled one
+and the preconditioner stays SPD. (The plain additive form M^-1 + Z E^-1 Z^T counts the force
+mode twice and took more iterations than block Jacobi alone: benchmarks/NOTES.md.)
+
+No extra FFT pair; E is rebuilt and inverted (n_contact x n_contact) whenever the set changes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .greens import love
+from .precond import BlockPreconditioner
+
+
+class TwoLevelPreconditioner:
+    """Block Jacobi plus a coarse pillar-force correction (see the module docstring)."""
+
+    def __init__(self, geometry, alpha):
+        self.block_jacobi = BlockPreconditioner(geometry, alpha)
+        m = self.block_jacobi.m
+        self.m = m
+        self.ng = geometry.n_groups
+        h = geometry.h
+        cy = geometry.iy.reshape(self.ng, m).mean(axis=1) * h
+        cx = geometry.ix.reshape(self.ng, m).mean(axis=1) * h
+        self._far = love(cx[:, None] - cx[None, :], cy[:, None] - cy[None, :], h)
+        self._att = np.zeros(geometry.n_active, dtype=np.uint8)
+        self._w = np.zeros(geometry.n_active)
+        self._groups = np.zeros(0, dtype=np.int64)
+        self._coarse = np.zeros((0, 0))
+        self._coef = np.zeros(self.ng)
+        self.updates = 0
+
+    @property
+    def one_level(self):
+        """The preconditioner without its coarse level (the local cascade's trust test)."""
+        return self.block_jacobi
+
+    def work_arrays(self) -> dict:
+        """The arrays this preconditioner owns (its block-Jacobi level's included), by name."""
+        out = {f"block_{k}": v for k, v in self.block_jacobi.work_arrays().items()}
+        out.update({k: v for k, v in vars(self).items() if isinstance(v, np.ndarray)})
+        return out
+
+    def update(self, att) -> None:
+        """Prepare for a solve on the attached set ``att``."""
+        self.block_jacobi.update(att)
+        if np.array_equal(att, self._att) and self.updates:
+            return
+        self.updates += 1
+        self._att[:] = att
+        ones = (att != 0).astype(np.float64)
+        self.block_jacobi.apply(ones, att, self._w)           # Z = M^-1 1_S
+        W = self._w.reshape(self.ng, self.m).sum(axis=1)
+        g = np.flatnonzero(W > 0.0)
+        E = self._far[np.ix_(g, g)] * np.outer(W[g], W[g])
+        E[np.diag_indices(len(g))] = W[g]
+        C = np.linalg.inv(E) if len(g) else np.zeros((0, 0))
+        C[np.diag_indices(len(g))] -= 1.0 / W[g]
+        self._groups = g
+        self._coarse = C
+
+    def apply(self, r, att, z) -> float:
+        """z <- (two-level preconditioner) r on the attached set; returns r.z."""
+        self.block_jacobi.apply(r, att, z)
+        g = self._groups
+        if len(g):
+            w2 = self._w.reshape(self.ng, self.m)
+            c = np.einsum("ij,ij->i", w2[g], r.reshape(self.ng, self.m)[g])   # Z^T r
+            z.reshape(self.ng, self.m)[g] += (self._coarse @ c)[:, None] * w2[g]
+        return float(r @ z)

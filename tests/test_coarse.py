@@ -1,0 +1,123 @@
+"""The two-level preconditioner (``solver.preconditioner: two_level``) against today's path.
+
+Same small brushes as tests/test_cascade.py: the coarse pillar-level correction must not change
+any recorded contact set, event count, let-go d~ or order, or F~_A, F~_P beyond the solver
+tolerance; and it must be an SPD preconditioner (CG's requirement) on partial contact sets.
+"""
+
+import numpy as np
+import pytest
+
+from fibril_hpc.coarse import TwoLevelPreconditioner
+
+from test_cascade import CASES, _order, _run
+
+TWO_LEVEL_CASES = [c for c in CASES if "preconditioner" not in c]
+
+
+@pytest.mark.parametrize("case", TWO_LEVEL_CASES,
+                         ids=lambda c: "-".join(f"{k}={v}" for k, v in c.items()))
+def test_two_level_matches_block_jacobi(case):
+    ref = _run("local", **case)
+    new = _run("local", preconditioner="two_level", **case)
+    assert len(ref.results) == len(new.results)
+    for a, b in zip(ref.results, new.results):
+        for ca, cb in ((a.loading, b.loading), (a.unloading, b.unloading)):
+            np.testing.assert_array_equal(ca.contact_fraction, cb.contact_fraction)
+            np.testing.assert_array_equal(ca.n_pillars_in_contact, cb.n_pillars_in_contact)
+            np.testing.assert_allclose(ca.d_tilde, cb.d_tilde, rtol=1e-8, atol=1e-10)
+            np.testing.assert_allclose(ca.F_tilde, cb.F_tilde, rtol=1e-7, atol=1e-9)
+        assert a.events == b.events
+        np.testing.assert_array_equal(a.at_pulloff.contact_map, b.at_pulloff.contact_map)
+        np.testing.assert_array_equal(np.isnan(a.let_go_d_tilde), np.isnan(b.let_go_d_tilde))
+        np.testing.assert_allclose(a.let_go_d_tilde, b.let_go_d_tilde, rtol=1e-8, atol=1e-10)
+        np.testing.assert_array_equal(_order(a.let_go_d_tilde), _order(b.let_go_d_tilde))
+        assert b.F_A == pytest.approx(a.F_A, rel=1e-9, abs=1e-12)
+        assert b.F_P == pytest.approx(a.F_P, rel=1e-9, abs=1e-12)
+
+
+@pytest.fixture(scope="module")
+def setup():
+    from fibril_hpc.grid import build_pillar_grid
+    from fibril_hpc.halfspace import HalfSpace
+
+    geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
+    op = HalfSpace(geom, threads=1)
+    return geom, op, op.dense()
+
+
+def _partial_set(geom, seed):
+    rng = np.random.default_rng(seed)
+    att = (rng.random(geom.n_active) < 0.8).astype(np.uint8)
+    att[geom.starts[2]:geom.starts[3]] = 0           # one pillar out of contact
+    return att
+
+
+@pytest.mark.parametrize("k_tilde", [1e-5, 1e-1, 1e2, float("inf")])
+def test_two_level_is_spd_with_the_exact_coarse_diagonal(setup, k_tilde):
+    geom, op, K = setup
+    alpha = 0.0 if np.isinf(k_tilde) else geom.h**2 / k_tilde
+    att = _partial_set(geom, 3)
+    S = np.flatnonzero(att)
+    pc = TwoLevelPreconditioner(geom, alpha)
+    pc.update(att)
+    # the preconditioner as a matrix on S: symmetric positive definite (CG needs it)
+    P = np.zeros((len(S), len(S)))
+    for j, s in enumerate(S):
+        e = np.zeros(geom.n_active)
+        e[s] = 1.0
+        z = np.zeros(geom.n_active)
+        pc.apply(e, att, z)
+        assert np.all(z[att == 0] == 0.0)
+        P[:, j] = z[S]
+    np.testing.assert_allclose(P, P.T, rtol=0, atol=1e-10 * np.abs(P).max())
+    assert np.linalg.eigvalsh(0.5 * (P + P.T)).min() > 0.0
+    # E's diagonal is exactly Z_g^T A Z_g, Z_g = M_g^-1 1 on the pillar's attached elements
+    lab = geom.labels
+    A = K[np.ix_(S, S)] + alpha * (lab[S][:, None] == lab[S][None, :])
+    w = np.zeros(geom.n_active)
+    pc.block_jacobi.apply(att.astype(float), att, w)
+    for g in range(geom.n_groups):
+        zg = np.where(lab[S] == g, w[S], 0.0)
+        if not zg.any():
+            continue
+        assert zg @ A @ zg == pytest.approx(zg.sum(), rel=1e-9)
+
+
+@pytest.mark.parametrize("k_tilde", [1e-5, 1e-1, 1.0, 1e5, float("inf")])
+def test_two_level_cg_matches_dense_solve_in_fewer_iterations(setup, k_tilde):
+    from fibril_hpc.solver import ConstrainedCG
+
+    geom, op, K = setup
+    alpha = 0.0 if np.isinf(k_tilde) else geom.h**2 / k_tilde
+    att = _partial_set(geom, 11)
+    S = np.flatnonzero(att)
+    lab = geom.labels
+    b = 1.0 - 0.3 * np.random.default_rng(5).random(geom.n_active)
+    A = K[np.ix_(S, S)] + alpha * (lab[S][:, None] == lab[S][None, :])
+    p_ref = np.linalg.solve(A, b[S])
+    its = {}
+    for kind in ("block", "two_level"):
+        cg = ConstrainedCG(op, alpha, tol=1e-10, maxiter=400, preconditioner=kind)
+        p = np.zeros(geom.n_active)
+        u = np.zeros(geom.n_active)
+        its[kind] = cg.solve(att, b, p, u)
+        assert np.all(p[att == 0] == 0)
+        assert np.linalg.norm(p[S] - p_ref) / np.linalg.norm(p_ref) < 1e-7
+        np.testing.assert_allclose(u, K[:, S] @ p[S], rtol=1e-8, atol=1e-12 * np.abs(u).max())
+    assert its["two_level"] <= its["block"], its
+
+
+def test_two_level_needs_one_footprint():
+    from fibril_hpc.precond import make_preconditioner
+
+    class Ragged:     # two groups of different sizes: no shared footprint
+        starts = np.array([0, 2, 5])
+        iy = np.array([0, 0, 3, 3, 4])
+        ix = np.array([0, 1, 3, 4, 3])
+        n_groups = 2
+        n_active = 5
+        h = 1.0
+
+    with pytest.raises(ValueError, match="shared footprint"):
+        make_preconditioner(Ragged(), 0.0, 1.0, "two_level")
