@@ -27,6 +27,9 @@ from .precond import BlockPreconditioner
 class TwoLevelPreconditioner:
     """Block Jacobi plus a coarse pillar-force correction (see the module docstring)."""
 
+    #: relative change of a pillar's W that triggers a new E^-1 (see ``update``)
+    REFRESH = 0.1
+
     def __init__(self, geometry, alpha):
         self.block_jacobi = BlockPreconditioner(geometry, alpha)
         m = self.block_jacobi.m
@@ -39,9 +42,11 @@ class TwoLevelPreconditioner:
         self._att = np.zeros(geometry.n_active, dtype=np.uint8)
         self._w = np.zeros(geometry.n_active)
         self._groups = np.zeros(0, dtype=np.int64)
-        self._coarse = np.zeros((0, 0))
-        self._coef = np.zeros(self.ng)
+        self._einv = np.zeros((0, 0))
+        self._inv_d = np.zeros(0)
+        self._w_built = np.zeros(0)
         self.updates = 0
+        self.factorisations = 0
 
     @property
     def one_level(self):
@@ -55,7 +60,14 @@ class TwoLevelPreconditioner:
         return out
 
     def update(self, att) -> None:
-        """Prepare for a solve on the attached set ``att``."""
+        """Prepare for a solve on the attached set ``att``.
+
+        Z and D follow every change of the set; E^-1 is rebuilt only when the pillars in contact
+        change or some W_g has moved by more than ``REFRESH`` (relative) since it was built. Any
+        SPD E^-1 on the same pillars keeps the preconditioner SPD, so a slightly stale one only
+        costs iterations, never correctness, and most set changes (a ring of elements of one
+        pillar) move W little.
+        """
         self.block_jacobi.update(att)
         if np.array_equal(att, self._att) and self.updates:
             return
@@ -65,12 +77,16 @@ class TwoLevelPreconditioner:
         self.block_jacobi.apply(ones, att, self._w)           # Z = M^-1 1_S
         W = self._w.reshape(self.ng, self.m).sum(axis=1)
         g = np.flatnonzero(W > 0.0)
+        self._inv_d = 1.0 / W[g]
+        if np.array_equal(g, self._groups) and self.factorisations and \
+                np.all(np.abs(W[g] - self._w_built) <= self.REFRESH * self._w_built):
+            return
         E = self._far[np.ix_(g, g)] * np.outer(W[g], W[g])
         E[np.diag_indices(len(g))] = W[g]
-        C = np.linalg.inv(E) if len(g) else np.zeros((0, 0))
-        C[np.diag_indices(len(g))] -= 1.0 / W[g]
+        self._einv = np.linalg.inv(E) if len(g) else np.zeros((0, 0))
+        self._w_built = W[g]
         self._groups = g
-        self._coarse = C
+        self.factorisations += 1
 
     def apply(self, r, att, z) -> float:
         """z <- (two-level preconditioner) r on the attached set; returns r.z."""
@@ -79,5 +95,5 @@ class TwoLevelPreconditioner:
         if len(g):
             w2 = self._w.reshape(self.ng, self.m)
             c = np.einsum("ij,ij->i", w2[g], r.reshape(self.ng, self.m)[g])   # Z^T r
-            z.reshape(self.ng, self.m)[g] += (self._coarse @ c)[:, None] * w2[g]
+            z.reshape(self.ng, self.m)[g] += (self._einv @ c - c * self._inv_d)[:, None] * w2[g]
         return float(r @ z)

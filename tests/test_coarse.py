@@ -121,3 +121,32 @@ def test_two_level_needs_one_footprint():
 
     with pytest.raises(ValueError, match="shared footprint"):
         make_preconditioner(Ragged(), 0.0, 1.0, "two_level")
+
+
+def test_stale_coarse_inverse_keeps_the_preconditioner_spd(setup):
+    """A small set change reuses E^-1 (only Z and D follow it); a pillar leaving rebuilds it;
+    either way the preconditioner stays symmetric positive definite on the new set."""
+    geom, op, K = setup
+    pc = TwoLevelPreconditioner(geom, geom.h**2 / 0.1)
+    att = np.ones(geom.n_active, np.uint8)
+    pc.update(att)
+    assert pc.factorisations == 1
+    att2 = att.copy()
+    att2[geom.starts[4]] = 0                          # one edge element of one pillar
+    pc.update(att2)
+    assert pc.factorisations == 1 and pc.updates == 2
+    att3 = att2.copy()
+    att3[geom.starts[0]:geom.starts[1]] = 0           # a pillar leaves: new coarse set
+    for a, n_fact in ((att2, 1), (att3, 2)):
+        pc.update(a)
+        assert pc.factorisations == n_fact
+        S = np.flatnonzero(a)
+        P = np.zeros((len(S), len(S)))
+        for j, s in enumerate(S):
+            e = np.zeros(geom.n_active)
+            e[s] = 1.0
+            z = np.zeros(geom.n_active)
+            pc.apply(e, a, z)
+            P[:, j] = z[S]
+        np.testing.assert_allclose(P, P.T, rtol=0, atol=1e-10 * np.abs(P).max())
+        assert np.linalg.eigvalsh(0.5 * (P + P.T)).min() > 0.0
