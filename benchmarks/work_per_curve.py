@@ -3,6 +3,10 @@
     python benchmarks/work_per_curve.py                          # default 18 x 18 scene, all presets
     python benchmarks/work_per_curve.py --presets default --repeat 1
     python benchmarks/work_per_curve.py --n-side 18 --k 1 --sigma 0.07 --F-P 6.5
+    python benchmarks/work_per_curve.py --presets default --paths local local:two_level
+
+A path is ``CASCADE`` or ``CASCADE:PRECONDITIONER``; differences and ratios are taken against
+the first path given.
 
 For each preset (fast / default / accurate) and each path (``cascade: global``, the reference
 with one global solve per cascade pass, and ``cascade: local``, the default) it runs the scene
