@@ -10,7 +10,7 @@ import pytest
 
 from fibril_hpc.coarse import TwoLevelPreconditioner
 
-from test_cascade import CASES, _order, _run
+from test_cascade import CASES, assert_same_path, run_path
 
 TWO_LEVEL_CASES = [c for c in CASES if "preconditioner" not in c]
 
@@ -18,22 +18,23 @@ TWO_LEVEL_CASES = [c for c in CASES if "preconditioner" not in c]
 @pytest.mark.parametrize("case", TWO_LEVEL_CASES,
                          ids=lambda c: "-".join(f"{k}={v}" for k, v in c.items()))
 def test_two_level_matches_block_jacobi(case):
-    ref = _run("local", **case)
-    new = _run("local", preconditioner="two_level", **case)
-    assert len(ref.results) == len(new.results)
-    for a, b in zip(ref.results, new.results):
-        for ca, cb in ((a.loading, b.loading), (a.unloading, b.unloading)):
-            np.testing.assert_array_equal(ca.contact_fraction, cb.contact_fraction)
-            np.testing.assert_array_equal(ca.n_pillars_in_contact, cb.n_pillars_in_contact)
-            np.testing.assert_allclose(ca.d_tilde, cb.d_tilde, rtol=1e-8, atol=1e-10)
-            np.testing.assert_allclose(ca.F_tilde, cb.F_tilde, rtol=1e-7, atol=1e-9)
-        assert a.events == b.events
-        np.testing.assert_array_equal(a.at_pulloff.contact_map, b.at_pulloff.contact_map)
-        np.testing.assert_array_equal(np.isnan(a.let_go_d_tilde), np.isnan(b.let_go_d_tilde))
-        np.testing.assert_allclose(a.let_go_d_tilde, b.let_go_d_tilde, rtol=1e-8, atol=1e-10)
-        np.testing.assert_array_equal(_order(a.let_go_d_tilde), _order(b.let_go_d_tilde))
-        assert b.F_A == pytest.approx(a.F_A, rel=1e-9, abs=1e-12)
-        assert b.F_P == pytest.approx(a.F_P, rel=1e-9, abs=1e-12)
+    assert_same_path(run_path("local", **case),
+                     run_path("local", preconditioner="two_level", **case))
+
+
+def _as_matrix(pc, geom, att):
+    """The preconditioner applied to every unit vector of the attached set S, as a matrix on S
+    (and checked to leave the free elements at zero)."""
+    S = np.flatnonzero(att)
+    P = np.zeros((len(S), len(S)))
+    for j, s in enumerate(S):
+        e = np.zeros(geom.n_active)
+        e[s] = 1.0
+        z = np.zeros(geom.n_active)
+        pc.apply(e, att, z)
+        assert np.all(z[att == 0] == 0.0)
+        P[:, j] = z[S]
+    return P
 
 
 @pytest.fixture(scope="module")
@@ -62,14 +63,7 @@ def test_two_level_is_spd_with_the_exact_coarse_diagonal(setup, k_tilde):
     pc = TwoLevelPreconditioner(geom, alpha)
     pc.update(att)
     # the preconditioner as a matrix on S: symmetric positive definite (CG needs it)
-    P = np.zeros((len(S), len(S)))
-    for j, s in enumerate(S):
-        e = np.zeros(geom.n_active)
-        e[s] = 1.0
-        z = np.zeros(geom.n_active)
-        pc.apply(e, att, z)
-        assert np.all(z[att == 0] == 0.0)
-        P[:, j] = z[S]
+    P = _as_matrix(pc, geom, att)
     np.testing.assert_allclose(P, P.T, rtol=0, atol=1e-10 * np.abs(P).max())
     assert np.linalg.eigvalsh(0.5 * (P + P.T)).min() > 0.0
     # E's diagonal is exactly Z_g^T A Z_g, Z_g = M_g^-1 1 on the pillar's attached elements
@@ -140,13 +134,6 @@ def test_stale_coarse_inverse_keeps_the_preconditioner_spd(setup):
     for a, n_fact in ((att2, 1), (att3, 2)):
         pc.update(a)
         assert pc.factorisations == n_fact
-        S = np.flatnonzero(a)
-        P = np.zeros((len(S), len(S)))
-        for j, s in enumerate(S):
-            e = np.zeros(geom.n_active)
-            e[s] = 1.0
-            z = np.zeros(geom.n_active)
-            pc.apply(e, a, z)
-            P[:, j] = z[S]
+        P = _as_matrix(pc, geom, a)
         np.testing.assert_allclose(P, P.T, rtol=0, atol=1e-10 * np.abs(P).max())
         assert np.linalg.eigvalsh(0.5 * (P + P.T)).min() > 0.0
