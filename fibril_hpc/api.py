@@ -168,7 +168,7 @@ def simulate(scene: Scene, *, model: Model | None = None,
     """
     # BLAS (the block preconditioner's products, the local cascades' dense solves) gets the
     # threads the FFT gets, one by default: OpenBLAS would otherwise start one thread per core in
-    # every process, and a campaign runs one process per core (NOTES: 1.4-1.8x the CPU time of a
+    # every process, and a campaign runs one process per core (NOTES: 1.4-2.2x the CPU time of a
     # path for no gain in wall time). Scoped to this call; the caller's limits come back after.
     with threadpool_limits(limits=scene.solver.fft_threads or 1, user_api="blas"):
         return _simulate(scene, model, operators)

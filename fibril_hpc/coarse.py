@@ -23,6 +23,9 @@ import numpy as np
 from .greens import love
 from .precond import BlockPreconditioner
 
+#: most pillars of a two-level scene: the coarse matrix is dense and inverted per set change
+MAX_PILLARS = 1024
+
 
 class TwoLevelPreconditioner:
     """Block Jacobi plus a coarse pillar-force correction (see the module docstring)."""

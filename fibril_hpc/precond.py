@@ -171,17 +171,18 @@ class BlockPreconditioner:
 
 
 def make_preconditioner(geometry, alpha: float, c0: float, kind: str = "auto",
-                        max_block: int = 1024, max_coarse: int = 1024):
+                        max_block: int = 1024):
     """``"block"`` where the geometry allows it (``"auto"``), else ``"diagonal"``; ``"two_level"``
     (block plus a coarse pillar level) on request, where ``"block"`` would be possible."""
     if kind == "diagonal":
         return DiagonalPreconditioner(geometry, alpha, c0)
     m = uniform_footprint(geometry)
     if kind == "two_level" and m is not None and m <= max_block:
-        if geometry.n_groups > max_coarse:     # a dense coarse matrix per set change
-            raise ValueError(f"two_level preconditioner needs at most {max_coarse} pillars "
+        from .coarse import MAX_PILLARS, TwoLevelPreconditioner
+
+        if geometry.n_groups > MAX_PILLARS:    # Scene refuses this first, in one line
+            raise ValueError(f"two_level preconditioner needs at most {MAX_PILLARS} pillars "
                              f"(got {geometry.n_groups})")
-        from .coarse import TwoLevelPreconditioner
         return TwoLevelPreconditioner(geometry, alpha)
     if m is not None and m <= max_block:
         return BlockPreconditioner(geometry, alpha)

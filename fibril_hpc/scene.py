@@ -99,7 +99,7 @@ class SolverOptions:
     fft_threads : int or None
         Threads of the FFT and of BLAS; ``None`` (default) means one. The row-pruned pair is many
         short batched 1-D transforms, where FFTW's threads cost more than they save on small
-        machines, and BLAS threads on the preconditioner's small products cost 1.4-1.8x the CPU
+        machines, and BLAS threads on the preconditioner's small products cost 1.4-2.2x the CPU
         time for no gain in wall time (measurements: ``benchmarks/NOTES.md``), so more threads
         are opt-in (e.g. ``fibril-campaign --fft-threads`` from Slurm's cpus-per-task). MPI
         campaigns run one single-threaded job per rank. The numba kernels are serial.
@@ -335,6 +335,13 @@ class Scene:
             raise ConfigError("solver.criterion", self.solver.criterion,
                               "mesh for tip: " + self.tip + " (the footprint calibration is "
                               "defined by a flat pillar)")
+        if self.solver.preconditioner == "two_level":
+            from .coarse import MAX_PILLARS
+
+            if self.n_side**2 > MAX_PILLARS:
+                raise ConfigError("solver.preconditioner", "two_level",
+                                  f"auto, block or diagonal for {self.n_side**2} pillars "
+                                  f"(two_level: at most {MAX_PILLARS})")
 
     @property
     def rigid(self) -> bool:
