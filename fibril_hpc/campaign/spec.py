@@ -369,7 +369,7 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     files = _sweep_files(sweep, base, base_dir)
     extras = [()]
     for name, values in sweep.items():
-        extras = [e + ((isinstance(v, str) and files.get((name, v))) or ((name, v),))
+        extras = [e + (files.get((name, v), ((name, v),)) if isinstance(v, str) else ((name, v),))
                   for e in extras for v in values]
     jobs = []
     for extra in extras:
