@@ -1,19 +1,29 @@
-"""A coarse pillar-level second level for the block-Jacobi preconditioner (experiment, issue 8).
+"""A coarse pillar-level second level for the block-Jacobi preconditioner (issue 8).
 
 One unknown per pillar in contact: Z_g = M_g^-1 1 on pillar g's attached elements (M the exact
 block-Jacobi preconditioner of :mod:`fibril_hpc.precond`, so Z_g is the block-Jacobi shape of a
-unit force on the pillar), E = Z^T A Z with the exact diagonal E_gg = 1^T M_g^-1 1 and point-force
-off-diagonals E_gh = W_g W_h K(c_g - c_h), W_g the sum of Z_g and K Love's coefficient at the
-offset of the pillar centres. Applied as
+unit force on the pillar), W_g = 1^T Z_g, and the normalised shapes Zh_g = Z_g / W_g (unit force).
+The coarse matrix in force unknowns is F = Zh^T A Zh with the exact diagonal F_gg = 1 / W_g and
+point-force off-diagonals F_gh = K(c_g - c_h), K Love's coefficient at the offset of the pillar
+centres. Applied as
 
-    z = M^-1 r + Z (E^-1 - D^-1) Z^T r,   D = diag E.
+    z = M^-1 r + Zh (F^-1 - W) Zh^T r,   W = diag(W_g).
 
-Per pillar, M_g^-1 - Z_g D_g^-1 Z_g^T is M_g^-1 with its force mode projected out (positive
-semidefinite), so the block-Jacobi's own answer for the force mode is replaced by the coupled one
-and the preconditioner stays SPD. (The plain additive form M^-1 + Z E^-1 Z^T counts the force
-mode twice and took more iterations than block Jacobi alone: benchmarks/NOTES.md.)
+Per pillar, M_g^-1 - Zh_g W_g Zh_g^T = M_g^-1 - Z_g Z_g^T / W_g is M_g^-1 with its force mode
+projected out (positive semidefinite), so the block-Jacobi's own answer for the force mode is
+replaced by the coupled one and the preconditioner stays SPD. (The plain additive form
+M^-1 + Zh F^-1 Zh^T counts the force mode twice and took more iterations than block Jacobi
+alone: benchmarks/NOTES.md.)
 
-No extra FFT pair; E is rebuilt and inverted (n_contact x n_contact) whenever the set changes.
+No extra FFT pair. F^-1 is kept over all pillars (rows and columns of pillars out of contact are
+zero) and follows every set change exactly by O(n^2) updates instead of a new O(n^3) inverse:
+a pillar whose W_g changes is a rank-one change of F's diagonal (Sherman-Morrison), a pillar
+that leaves drops its row and column (Schur complement on the inverse:
+F^-1 - F^-1[:, g] F^-1[g, :] / F^-1[g, g]), a pillar that joins borders the matrix (its Schur
+complement s = 1/W_g - b^T F^-1 b, b its point-force column). Each update is symmetric by
+construction; F^-1 is rebuilt with a dense inverse every ``REBUILD_EVERY`` updates, when one set
+change moves many pillars, or when a pivot is not safely positive (an update that would lose
+positive definiteness is never applied).
 """
 
 from __future__ import annotations
@@ -30,8 +40,13 @@ MAX_PILLARS = 1024
 class TwoLevelPreconditioner:
     """Block Jacobi plus a coarse pillar-force correction (see the module docstring)."""
 
-    #: relative change of a pillar's W that triggers a new E^-1 (see ``update``)
-    REFRESH = 0.1
+    #: rank-one updates of F^-1 between two dense rebuilds (bounds the rounding they accumulate)
+    REBUILD_EVERY = 64
+    #: a set change moving more pillars than this (and than an eighth of those in contact) is
+    #: a dense rebuild: it costs less than that many updates
+    MAX_UPDATES_PER_CHANGE = 8
+    #: an update whose pivot is below this times its natural scale (W_g, 1/W_g or 1) rebuilds
+    PIVOT_TOL = 1e-8
 
     def __init__(self, geometry, alpha):
         self.block_jacobi = BlockPreconditioner(geometry, alpha)
@@ -42,14 +57,17 @@ class TwoLevelPreconditioner:
         cy = geometry.iy.reshape(self.ng, m).mean(axis=1) * h
         cx = geometry.ix.reshape(self.ng, m).mean(axis=1) * h
         self._far = love(cx[:, None] - cx[None, :], cy[:, None] - cy[None, :], h)
+        np.fill_diagonal(self._far, 0.0)              # F's diagonal is 1/W_g (exact)
         self._att = np.zeros(geometry.n_active, dtype=np.uint8)
-        self._w = np.zeros(geometry.n_active)
-        self._groups = np.zeros(0, dtype=np.int64)
-        self._einv = np.zeros((0, 0))
-        self._inv_d = np.zeros(0)
-        self._w_built = np.zeros(0)
+        self._w = np.zeros(geometry.n_active)         # Z, element by element
+        self._W = np.zeros(self.ng)                   # W_g (0: pillar out of contact)
+        self._inv_w = np.zeros(self.ng)               # 1/W_g (0: out of contact)
+        self._finv = np.zeros((self.ng, self.ng))     # F^-1 on the pillars in contact
+        self._c = np.zeros(self.ng)
+        self._since_rebuild = 0
         self.updates = 0
         self.factorisations = 0
+        self.rank_one_updates = 0
 
     @property
     def one_level(self):
@@ -63,14 +81,7 @@ class TwoLevelPreconditioner:
         return out
 
     def update(self, att) -> None:
-        """Prepare for a solve on the attached set ``att``.
-
-        Z and D follow every change of the set; E^-1 is rebuilt only when the pillars in contact
-        change or some W_g has moved by more than ``REFRESH`` (relative) since it was built. Any
-        SPD E^-1 on the same pillars keeps the preconditioner SPD, so a slightly stale one only
-        costs iterations, never correctness, and most set changes (a ring of elements of one
-        pillar) move W little.
-        """
+        """Prepare for a solve on the attached set ``att``: Z, W and F^-1 follow it exactly."""
         self.block_jacobi.update(att)
         if np.array_equal(att, self._att) and self.updates:
             return
@@ -79,24 +90,79 @@ class TwoLevelPreconditioner:
         ones = (att != 0).astype(np.float64)
         self.block_jacobi.apply(ones, att, self._w)           # Z = M^-1 1_S
         W = self._w.reshape(self.ng, self.m).sum(axis=1)
+        W[W <= 0.0] = 0.0
+        changed = np.flatnonzero(W != self._W)
+        n_in = int(np.count_nonzero(W))
+        if self.factorisations == 0 or len(changed) > max(self.MAX_UPDATES_PER_CHANGE, n_in // 8) \
+                or self._since_rebuild + len(changed) > self.REBUILD_EVERY \
+                or not self._follow(changed, W):
+            self._rebuild(W)
+        self._W = W
+        self._inv_w = np.divide(1.0, W, out=np.zeros_like(W), where=W > 0.0)
+
+    def coarse_matrix(self, W=None) -> tuple:
+        """(pillars in contact, F on them) for the weights W (default: the current ones)."""
+        W = self._W if W is None else W
         g = np.flatnonzero(W > 0.0)
-        self._inv_d = 1.0 / W[g]
-        if np.array_equal(g, self._groups) and self.factorisations and \
-                np.all(np.abs(W[g] - self._w_built) <= self.REFRESH * self._w_built):
-            return
-        E = self._far[np.ix_(g, g)] * np.outer(W[g], W[g])
-        E[np.diag_indices(len(g))] = W[g]
-        self._einv = np.linalg.inv(E) if len(g) else np.zeros((0, 0))
-        self._w_built = W[g]
-        self._groups = g
+        F = self._far[np.ix_(g, g)]
+        F[np.diag_indices(len(g))] = 1.0 / W[g]
+        return g, F
+
+    @property
+    def coarse_inverse(self) -> np.ndarray:
+        """F^-1 as kept (ng x ng; zero rows and columns for pillars out of contact), read-only."""
+        v = self._finv.view()
+        v.flags.writeable = False
+        return v
+
+    def _rebuild(self, W) -> None:
+        g, F = self.coarse_matrix(W)
+        self._finv[:] = 0.0
+        if len(g):
+            inv = np.linalg.inv(F)
+            self._finv[np.ix_(g, g)] = 0.5 * (inv + inv.T)
+        self._since_rebuild = 0
         self.factorisations += 1
+
+    def _follow(self, changed, W) -> bool:
+        """Update F^-1 for the pillars in ``changed`` (old W: ``self._W``, new: ``W``) one at a
+        time; False (F^-1 then to be rebuilt) at the first pivot that is not safely positive."""
+        finv = self._finv
+        for g in changed:
+            old, new = self._W[g], W[g]
+            if new == 0.0:                                  # the pillar leaves: drop g
+                v = finv[:, g].copy()
+                if not v[g] > self.PIVOT_TOL * old:     # F^-1_gg >= W_g when SPD
+                    return False
+                finv -= np.outer(v, v) * (1.0 / v[g])
+                finv[g, :] = 0.0
+                finv[:, g] = 0.0
+            elif old == 0.0:                                # the pillar joins: border by g
+                u = finv @ self._far[:, g]
+                s = 1.0 / new - float(self._far[:, g] @ u)
+                if not s > self.PIVOT_TOL / new:
+                    return False
+                finv += np.outer(u, u) * (1.0 / s)
+                finv[:, g] = -u / s
+                finv[g, :] = finv[:, g]
+                finv[g, g] = 1.0 / s
+            else:                                           # F_gg: 1/old -> 1/new
+                delta = 1.0 / new - 1.0 / old
+                v = finv[:, g].copy()
+                den = 1.0 + delta * v[g]
+                if not den > self.PIVOT_TOL:
+                    return False
+                finv -= np.outer(v, v) * (delta / den)
+            self._since_rebuild += 1
+            self.rank_one_updates += 1
+        return True
 
     def apply(self, r, att, z) -> float:
         """z <- (two-level preconditioner) r on the attached set; returns r.z."""
         self.block_jacobi.apply(r, att, z)
-        g = self._groups
-        if len(g):
-            w2 = self._w.reshape(self.ng, self.m)
-            c = np.einsum("ij,ij->i", w2[g], r.reshape(self.ng, self.m)[g])   # Z^T r
-            z.reshape(self.ng, self.m)[g] += (self._einv @ c - c * self._inv_d)[:, None] * w2[g]
+        w2 = self._w.reshape(self.ng, self.m)
+        c = np.einsum("ij,ij->i", w2, r.reshape(self.ng, self.m), out=self._c)   # Z^T r
+        ch = c * self._inv_w                                                      # Zh^T r
+        coef = (self._finv @ ch - c) * self._inv_w
+        z.reshape(self.ng, self.m)[:] += coef[:, None] * w2
         return float(r @ z)

@@ -117,23 +117,52 @@ def test_two_level_needs_one_footprint():
         make_preconditioner(Ragged(), 0.0, 1.0, "two_level")
 
 
-def test_stale_coarse_inverse_keeps_the_preconditioner_spd(setup):
-    """A small set change reuses E^-1 (only Z and D follow it); a pillar leaving rebuilds it;
-    either way the preconditioner stays symmetric positive definite on the new set."""
+def _dense_finv(pc):
+    """F^-1 of the pillars in contact, by a fresh dense inverse (zero rows/cols elsewhere)."""
+    g, F = pc.coarse_matrix()
+    ref = np.zeros_like(pc.coarse_inverse)
+    ref[np.ix_(g, g)] = np.linalg.inv(F)
+    return ref
+
+
+def test_coarse_inverse_follows_set_changes_by_updates(setup):
+    """Elements leaving and joining, pillars leaving and joining: F^-1 is updated (rank one per
+    pillar, no dense inverse) and equals a fresh inverse to rounding, exactly symmetric; the
+    preconditioner stays symmetric positive definite on every set."""
     geom, op, K = setup
     pc = TwoLevelPreconditioner(geom, geom.h**2 / 0.1)
     att = np.ones(geom.n_active, np.uint8)
     pc.update(att)
     assert pc.factorisations == 1
-    att2 = att.copy()
-    att2[geom.starts[4]] = 0                          # one edge element of one pillar
-    pc.update(att2)
-    assert pc.factorisations == 1 and pc.updates == 2
-    att3 = att2.copy()
-    att3[geom.starts[0]:geom.starts[1]] = 0           # a pillar leaves: new coarse set
-    for a, n_fact in ((att2, 1), (att3, 2)):
-        pc.update(a)
-        assert pc.factorisations == n_fact
-        P = _as_matrix(pc, geom, a)
+    rng = np.random.default_rng(2)
+    s = geom.starts
+    changes = [("element", 4), ("pillar_out", 0), ("element", 7), ("pillar_out", 5),
+               ("pillar_in", 0), ("element", 0), ("pillar_in", 5)]
+    for what, g in changes:
+        att = att.copy()
+        if what == "element":
+            att[s[g] + rng.integers(s[g + 1] - s[g])] ^= 1
+        else:
+            att[s[g]:s[g + 1]] = what == "pillar_in"
+        pc.update(att)
+        assert pc.factorisations == 1               # every change followed by updates
+        np.testing.assert_allclose(pc.coarse_inverse, _dense_finv(pc), rtol=0,
+                                   atol=1e-11 * np.abs(pc.coarse_inverse).max())
+        assert np.array_equal(pc.coarse_inverse, pc.coarse_inverse.T)
+        P = _as_matrix(pc, geom, att)
         np.testing.assert_allclose(P, P.T, rtol=0, atol=1e-10 * np.abs(P).max())
         assert np.linalg.eigvalsh(0.5 * (P + P.T)).min() > 0.0
+    assert pc.rank_one_updates == len(changes)
+
+
+def test_coarse_inverse_is_rebuilt_after_many_updates(setup):
+    geom, op, K = setup
+    pc = TwoLevelPreconditioner(geom, geom.h**2 / 0.1)
+    att = np.ones(geom.n_active, np.uint8)
+    for i in range(pc.REBUILD_EVERY + 2):
+        att = att.copy()
+        att[geom.starts[i % geom.n_groups] + i // geom.n_groups] ^= 1
+        pc.update(att)
+    assert pc.factorisations == 2 and pc.rank_one_updates >= pc.REBUILD_EVERY
+    np.testing.assert_allclose(pc.coarse_inverse, _dense_finv(pc), rtol=0,
+                               atol=1e-11 * np.abs(pc.coarse_inverse).max())
