@@ -33,7 +33,8 @@ import numpy as np
 from .greens import love
 from .precond import BlockPreconditioner
 
-#: most pillars of a two-level scene: the coarse matrix is dense and inverted per set change
+#: most pillars of a two-level scene (the coarse inverse is dense, ng x ng); ``auto`` falls back
+#: to block Jacobi above it
 MAX_PILLARS = 1024
 
 
@@ -78,6 +79,13 @@ class TwoLevelPreconditioner:
         """The arrays this preconditioner owns (its block-Jacobi level's included), by name."""
         out = {f"block_{k}": v for k, v in self.block_jacobi.work_arrays().items()}
         out.update({k: v for k, v in vars(self).items() if isinstance(v, np.ndarray)})
+        return out
+
+    def cache_stats(self) -> dict:
+        """The block level's cache statistics plus the coarse level's update counts."""
+        out = self.block_jacobi.cache_stats()
+        out.update({"coarse_factorisations": self.factorisations,
+                    "coarse_rank_one_updates": self.rank_one_updates})
         return out
 
     def update(self, att) -> None:

@@ -12,7 +12,8 @@
 
 Both expose ``update(att)`` (called at the start of every solve), ``apply(r, att, z) -> r.z`` and
 ``one_level`` (themselves). ``"two_level"`` adds a coarse pillar-force level to the block one
-(:mod:`fibril_hpc.coarse`); its ``one_level`` is the block one.
+(:mod:`fibril_hpc.coarse`); its ``one_level`` is the block one. It is what ``"auto"`` picks for
+brushes of one footprint and at most ``coarse.MAX_PILLARS`` pillars (``make_preconditioner``).
 """
 
 from __future__ import annotations
@@ -172,21 +173,29 @@ class BlockPreconditioner:
 
 def make_preconditioner(geometry, alpha: float, c0: float, kind: str = "auto",
                         max_block: int = 1024):
-    """``"block"`` where the geometry allows it (``"auto"``), else ``"diagonal"``; ``"two_level"``
-    (block plus a coarse pillar level) on request, where ``"block"`` would be possible."""
+    """The CG preconditioner of ``kind``.
+
+    ``"auto"``: ``"two_level"`` (block Jacobi plus a coarse pillar level,
+    :mod:`fibril_hpc.coarse`) where all pillars share one footprint of at most ``max_block``
+    elements and there are at most ``coarse.MAX_PILLARS`` pillars, ``"block"`` where only the
+    pillar count is too large, else ``"diagonal"``. An explicit ``"block"`` or ``"two_level"``
+    the geometry does not allow is a ValueError.
+    """
     if kind == "diagonal":
         return DiagonalPreconditioner(geometry, alpha, c0)
     m = uniform_footprint(geometry)
-    if kind == "two_level" and m is not None and m <= max_block:
-        from .coarse import MAX_PILLARS, TwoLevelPreconditioner
-
-        if geometry.n_groups > MAX_PILLARS:    # Scene refuses this first, in one line
-            raise ValueError(f"two_level preconditioner needs at most {MAX_PILLARS} pillars "
-                             f"(got {geometry.n_groups})")
-        return TwoLevelPreconditioner(geometry, alpha)
-    if m is not None and m <= max_block:
+    if m is None or m > max_block:
+        if kind != "auto":
+            raise ValueError(f"{kind} preconditioner needs groups with one shared footprint of "
+                             f"at most {max_block} elements")
+        return DiagonalPreconditioner(geometry, alpha, c0)
+    if kind == "block":
         return BlockPreconditioner(geometry, alpha)
-    if kind != "auto":
-        raise ValueError(f"{kind} preconditioner needs groups with one shared footprint of at "
-                         f"most {max_block} elements")
-    return DiagonalPreconditioner(geometry, alpha, c0)
+    from .coarse import MAX_PILLARS, TwoLevelPreconditioner
+
+    if geometry.n_groups <= MAX_PILLARS:
+        return TwoLevelPreconditioner(geometry, alpha)
+    if kind == "two_level":            # Scene refuses this first, in one line
+        raise ValueError(f"two_level preconditioner needs at most {MAX_PILLARS} pillars "
+                         f"(got {geometry.n_groups})")
+    return BlockPreconditioner(geometry, alpha)        # "auto" on a big brush

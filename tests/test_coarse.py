@@ -18,8 +18,27 @@ TWO_LEVEL_CASES = [c for c in CASES if "preconditioner" not in c]
 @pytest.mark.parametrize("case", TWO_LEVEL_CASES,
                          ids=lambda c: "-".join(f"{k}={v}" for k, v in c.items()))
 def test_two_level_matches_block_jacobi(case):
-    assert_same_path(run_path("local", **case),
+    assert_same_path(run_path("local", preconditioner="block", **case),
                      run_path("local", preconditioner="two_level", **case))
+
+
+def test_auto_is_two_level_up_to_max_pillars_then_block():
+    from fibril_hpc import Scene
+    from fibril_hpc.coarse import MAX_PILLARS
+    from fibril_hpc.grid import build_pillar_grid
+    from fibril_hpc.precond import BlockPreconditioner, make_preconditioner
+
+    side = int(MAX_PILLARS**0.5)
+    assert side**2 == MAX_PILLARS
+    for n_side, kind in ((2, TwoLevelPreconditioner), (side, TwoLevelPreconditioner),
+                         (side + 1, BlockPreconditioner)):
+        geom = build_pillar_grid(n_side, 0.16, 2, 0.0, 0).geometry
+        assert type(make_preconditioner(geom, 0.1, 1.0, "auto")) is kind
+        assert type(make_preconditioner(geom, 0.1, 1.0, "block")) is BlockPreconditioner
+    # above the limit "auto" is accepted silently (block Jacobi), an explicit two_level is not
+    assert Scene(n_side=side + 1).solver.preconditioner == "auto"
+    with pytest.raises(ValueError, match="two_level"):
+        make_preconditioner(geom, 0.1, 1.0, "two_level")
 
 
 def _as_matrix(pc, geom, att):

@@ -58,11 +58,11 @@ def test_defaults_are_todays_scene_text_key_and_grid():
     # one stiffness: a number everywhere, no per-pillar array anywhere
     assert not model.per_pillar and isinstance(model.k, float)
     assert isinstance(model.solver.alpha, float) and isinstance(driver.inv_k, float)
-    assert model.solver.precond.alpha_g is None and driver.local is not None
+    assert model.solver.precond.one_level.alpha_g is None and driver.local is not None
     per = build_scene_model(cheap.replace(k_law="lognormal", k_spread=0.1))
     per_driver = PathDriver(per)        # ... which a per-pillar scene has, one value per pillar
     assert per.per_pillar and per.k.shape == per.solver.alpha.shape == per_driver.inv_k.shape \
-        == (per.geometry.n_groups,) and per.solver.precond.alpha_g is per.solver.alpha
+        == (per.geometry.n_groups,) and per.solver.precond.one_level.alpha_g is per.solver.alpha
 
 
 def test_default_result_has_no_lab_outputs(opts):
