@@ -66,6 +66,7 @@ class TwoLevelPreconditioner:
         self._finv = np.zeros((self.ng, self.ng))     # F^-1 on the pillars in contact
         self._c = np.zeros(self.ng)
         self._since_rebuild = 0
+        self._valid = False                           # F^-1 built (else: rebuild at next update)
         self.updates = 0
         self.factorisations = 0
         self.rank_one_updates = 0
@@ -88,10 +89,31 @@ class TwoLevelPreconditioner:
                     "coarse_rank_one_updates": self.rank_one_updates})
         return out
 
+    def state(self) -> dict:
+        """A copy of what the coarse level carries from one set to the next. F^-1 follows the
+        set by updates, so it holds the rounding of its history: a path that must be repeatable
+        bit for bit (a preload snapshot taken ahead and put back) saves and restores it."""
+        return {"att": self._att.copy(), "w": self._w.copy(), "W": self._W.copy(),
+                "finv": self._finv.copy(), "since": self._since_rebuild, "valid": self._valid}
+
+    def set_state(self, state) -> None:
+        """Restore a ``state()``; None forgets the history (F^-1 is rebuilt densely from the set
+        at the next update, a function of the set alone)."""
+        if state is None:
+            self._valid = False
+            return
+        self._att[:] = state["att"]
+        self._w[:] = state["w"]
+        self._W = state["W"].copy()
+        self._inv_w = np.divide(1.0, self._W, out=np.zeros_like(self._W), where=self._W > 0.0)
+        self._finv[:] = state["finv"]
+        self._since_rebuild = state["since"]
+        self._valid = state["valid"]
+
     def update(self, att) -> None:
         """Prepare for a solve on the attached set ``att``: Z, W and F^-1 follow it exactly."""
         self.block_jacobi.update(att)
-        if np.array_equal(att, self._att) and self.updates:
+        if self._valid and np.array_equal(att, self._att):
             return
         self.updates += 1
         self._att[:] = att
@@ -101,7 +123,7 @@ class TwoLevelPreconditioner:
         W[W <= 0.0] = 0.0
         changed = np.flatnonzero(W != self._W)
         n_in = int(np.count_nonzero(W))
-        if self.factorisations == 0 or len(changed) > max(self.MAX_UPDATES_PER_CHANGE, n_in // 8) \
+        if not self._valid or len(changed) > max(self.MAX_UPDATES_PER_CHANGE, n_in // 8) \
                 or self._since_rebuild + len(changed) > self.REBUILD_EVERY \
                 or not self._follow(changed, W):
             self._rebuild(W)
@@ -128,8 +150,12 @@ class TwoLevelPreconditioner:
         self._finv[:] = 0.0
         if len(g):
             inv = np.linalg.inv(F)
-            self._finv[np.ix_(g, g)] = 0.5 * (inv + inv.T)
+            del F
+            inv += inv.T
+            inv *= 0.5
+            self._finv[np.ix_(g, g)] = inv
         self._since_rebuild = 0
+        self._valid = True
         self.factorisations += 1
 
     def _follow(self, changed, W) -> bool:

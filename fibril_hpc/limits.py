@@ -9,7 +9,9 @@ m x m grid plus per-element solver vectors; the peak resident memory measured on
 grew by 59 and 56 bytes per m^2 (m = 2160: +275 MB, m = 3840: +829 MB, ``simulate`` of one
 preload; ``python benchmarks/scene_memory.py 40 12`` and ``60 14``).
 The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
-:data:`BASE_BYTES`. It is compared with the memory available now (``MemAvailable`` of
+:data:`BASE_BYTES`, plus the two-level preconditioner's coarse level where it is used
+(``solver.preconditioner`` ``auto`` or ``two_level`` on at most ``coarse.MAX_PILLARS`` pillars):
+:func:`coarse_bytes`, dense pillar x pillar arrays that grow with n_side^4, not with the grid. It is compared with the memory available now (``MemAvailable`` of
 ``/proc/meminfo``, or a cgroup's limit when lower); ``--ignore-memory-check`` runs anyway.
 """
 
@@ -42,6 +44,35 @@ def check_grid(n_side: int, phi: float, elements_per_diameter: float,
     return n
 
 
+#: pillar x pillar float64 arrays of the coarse level: two kept (the point-force couplings and
+#: F^-1), one copy of F^-1 while a preload snapshot is taken ahead (loading.PathDriver), and at
+#: most four alive during an update (a rank-one product, or a dense rebuild's matrix, LAPACK's
+#: two work copies and the symmetrised inverse)
+COARSE_SQUARE_ARRAYS = 7
+#: bytes per active element of the coarse level: Z (float64), the attached set it was built on
+#: (uint8) and the indicator of that set (float64, during an update)
+COARSE_BYTES_PER_ELEMENT = 17
+#: pillar-length float64 vectors of the coarse level (W, 1/W, Z^T r and temporaries)
+COARSE_PILLAR_VECTORS = 8
+
+
+def coarse_bytes(n_pillars: int, n_active: int) -> int:
+    """Peak bytes of the two-level preconditioner's coarse level (:mod:`fibril_hpc.coarse`) on
+    ``n_pillars`` pillars with ``n_active`` active elements (its block-Jacobi level not
+    included: block Jacobi alone holds that too)."""
+    return (8 * (COARSE_SQUARE_ARRAYS * n_pillars + COARSE_PILLAR_VECTORS) * n_pillars
+            + COARSE_BYTES_PER_ELEMENT * n_active)
+
+
+def uses_coarse_level(scene) -> bool:
+    """Whether ``scene``'s solver builds the coarse level (``auto`` or ``two_level`` on at most
+    ``coarse.MAX_PILLARS`` pillars; counted whatever the footprints: an upper bound)."""
+    from .coarse import MAX_PILLARS
+
+    return scene.solver.preconditioner in ("auto", "two_level") and \
+        scene.n_side**2 <= MAX_PILLARS
+
+
 def memory_estimate(scene) -> tuple[int, int, int]:
     """(estimated peak bytes of one ``simulate`` call, grid side, FFT side) of ``scene``."""
     from .greens import padded_size
@@ -49,7 +80,10 @@ def memory_estimate(scene) -> tuple[int, int, int]:
 
     n = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice).grid_side
     m = padded_size(n)
-    return BYTES_PER_FFT_ELEMENT * m * m + BASE_BYTES, n, m
+    need = BYTES_PER_FFT_ELEMENT * m * m + BASE_BYTES
+    if uses_coarse_level(scene):
+        need += coarse_bytes(scene.n_side**2, n * n)   # n^2 bounds the active elements
+    return need, n, m
 
 
 def available_memory() -> int | None:
@@ -100,5 +134,5 @@ def check_job_count(counts: dict) -> int:
     return total
 
 
-__all__ = ["check_grid", "check_memory", "check_job_count", "memory_estimate",
+__all__ = ["check_grid", "check_memory", "check_job_count", "memory_estimate", "coarse_bytes",
            "available_memory", "MAX_GRID_SIDE", "MAX_JOBS"]

@@ -232,6 +232,7 @@ class PathDriver:
         out = {k: getattr(self, k).copy() for k in self._STATE}
         out["d"] = self.d
         out["_since_full"] = self._since_full
+        out["_precond"] = self.model.solver.precond.state()
         return out
 
     def _load(self, saved: dict):
@@ -239,6 +240,7 @@ class PathDriver:
             getattr(self, k)[:] = saved[k]
         self.d = saved["d"]
         self._since_full = saved["_since_full"]
+        self.model.solver.precond.set_state(saved["_precond"])
 
     def snapshot_ahead(self, dist: float, n_points: int, force_target: float | None = None
                        ) -> Snapshot:
@@ -250,8 +252,9 @@ class PathDriver:
         flip, so a request that lands on an event is met exactly instead of by rounding. For a
         force preload (``force_target``) the state is then moved along the new set until the force
         equals the request again (repeated while that passes further events). Finally every array
-        is put back bit for bit: the path does not depend on which preloads are requested, and
-        grouped preloads give exactly what separate runs give.
+        (the preconditioner's state included) is put back bit for bit: the path does not depend on
+        which preloads are requested, and grouped preloads give exactly what separate runs give.
+        Each unloading branch starts with the preconditioner's history forgotten (``restore``).
         """
         saved = self._save()
         self.move(abs(dist), 1.0 if dist >= 0 else -1.0)
@@ -288,6 +291,7 @@ class PathDriver:
         self.att_ref[:] = snap.att
         self.att1_ref[:] = snap.att
         self._since_full = 0
+        self.model.solver.precond.set_state(None)     # a function of the set from here on
         self._forces(self.p, self.f)
         self._gaps(self.u, self.f, self.d, 1.0, self.g)
         self._forces(self.p1, self.f1)
@@ -352,6 +356,7 @@ class PathDriver:
         self.att_ref[:] = 0
         self.att1_ref[:] = 0
         self._since_full = 0
+        self.model.solver.precond.set_state(None)
         self._forces(self.p, self.f)
         self._gaps(self.u, self.f, self.d, 1.0, self.g)
 

@@ -10,8 +10,9 @@
   Fully attached pillars share one inverse and are applied as one matrix product; partly attached
   ones get their own inverse, cached by attachment pattern and rebuilt only when it changes.
 
-Both expose ``update(att)`` (called at the start of every solve), ``apply(r, att, z) -> r.z`` and
-``one_level`` (themselves). ``"two_level"`` adds a coarse pillar-force level to the block one
+Both expose ``update(att)`` (called at the start of every solve), ``apply(r, att, z) -> r.z``,
+``one_level`` (themselves) and ``state()`` / ``set_state(state)`` (None for both: they are
+functions of the attached set alone). ``"two_level"`` adds a coarse pillar-force level to the block one
 (:mod:`fibril_hpc.coarse`); its ``one_level`` is the block one. It is what ``"auto"`` picks for
 brushes of one footprint and at most ``coarse.MAX_PILLARS`` pillars (``make_preconditioner``).
 """
@@ -43,6 +44,13 @@ class DiagonalPreconditioner:
     def update(self, att) -> None:
         """Prepare for a solve on the attached set ``att``."""
         pass
+
+    def state(self):
+        """None: this preconditioner is a function of the attached set alone."""
+        return None
+
+    def set_state(self, state) -> None:
+        """Nothing to restore (see ``state``)."""
 
     def apply(self, r, att, z) -> float:
         """z <- P^-1 r on the attached set; returns r.z."""
@@ -111,6 +119,14 @@ class BlockPreconditioner:
         for i, (_, inv) in enumerate(self._cache.values()):
             out[f"cached_inverse_{i}"] = inv
         return out
+
+    def state(self):
+        """None: this preconditioner is a function of the attached set alone (its cache holds
+        inverses that depend only on their pattern)."""
+        return None
+
+    def set_state(self, state) -> None:
+        """Nothing to restore (see ``state``)."""
 
     def cache_stats(self) -> dict:
         """Size of the partial-inverse cache: entries held, the bound, block size, updates."""

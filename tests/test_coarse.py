@@ -185,3 +185,40 @@ def test_coarse_inverse_is_rebuilt_after_many_updates(setup):
     assert pc.factorisations == 2 and pc.rank_one_updates >= pc.REBUILD_EVERY
     np.testing.assert_allclose(pc.coarse_inverse, _dense_finv(pc), rtol=0,
                                atol=1e-11 * np.abs(pc.coarse_inverse).max())
+
+
+def test_memory_estimate_covers_the_coarse_level():
+    """limits.coarse_bytes bounds what the coarse level really holds: its own arrays after a
+    solve plus the peak of an update that rebuilds F^-1 (traced), on a 12 x 12 brush."""
+    import tracemalloc
+
+    from fibril_hpc import Scene
+    from fibril_hpc.limits import coarse_bytes, memory_estimate
+    from fibril_hpc.loading import PathDriver
+    from fibril_hpc.model import build_scene_model
+
+    scene = Scene(n_side=12, elements_per_diameter=3, solver={"fft_threads": 1})
+    model = build_scene_model(scene)
+    pc = model.solver.precond
+    assert type(pc) is TwoLevelPreconditioner            # what "auto" builds here
+    PathDriver(model).solve_at(1.0 * model.scaling.d_c)
+    geom = model.geometry
+    kept = sum(a.nbytes for k, a in pc.work_arrays().items() if not k.startswith("block_"))
+    att = np.ones(geom.n_active, np.uint8)
+    att[geom.starts[0]:geom.starts[60]] = 0
+    pc.update(att)
+    att[:] = 1                           # 60 pillars join: a dense rebuild on all 144
+    n_fact = pc.factorisations
+    tracemalloc.start()
+    base = tracemalloc.get_traced_memory()[0]
+    pc.update(att)
+    peak = tracemalloc.get_traced_memory()[1] - base
+    tracemalloc.stop()
+    assert pc.factorisations == n_fact + 1
+    need = coarse_bytes(geom.n_groups, geom.n_active)
+    assert 2 * 8 * geom.n_groups**2 < kept + peak <= need, (kept, peak, need)
+    # the scene estimate adds it for auto / two_level, not for block Jacobi alone
+    n = memory_estimate(scene)[1]
+    block = scene.replace(solver=scene.solver.replace(preconditioner="block"))
+    assert memory_estimate(scene)[0] - memory_estimate(block)[0] == coarse_bytes(144, n * n)
+    assert n * n >= geom.n_active
