@@ -11,7 +11,8 @@ preload; ``python benchmarks/scene_memory.py 40 12`` and ``60 14``).
 The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
 :data:`BASE_BYTES`, plus the two-level preconditioner's coarse level where it is used
 (``solver.preconditioner`` ``auto`` or ``two_level`` on at most ``coarse.MAX_PILLARS`` pillars):
-:func:`coarse_bytes`, dense pillar x pillar arrays that grow with n_side^4, not with the grid. It is compared with the memory available now (``MemAvailable`` of
+:func:`coarse_bytes`, dense pillar x pillar arrays that grow with n_side^4, not with the grid.
+It is compared with the memory available now (``MemAvailable`` of
 ``/proc/meminfo``, or a cgroup's limit when lower); ``--ignore-memory-check`` runs anyway.
 """
 

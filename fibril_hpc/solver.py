@@ -5,9 +5,10 @@ spring work is skipped inside the kernels). The preconditioner is chosen by
 ``SolverOptions.preconditioner``: by default (``"auto"``) the exact per-pillar block Jacobi one
 plus a coarse level of one force per pillar in contact (:mod:`fibril_hpc.coarse`) wherever all
 pillars share one footprint (block Jacobi alone above ``coarse.MAX_PILLARS`` pillars), else the
-Sherman-Morrison diagonal one P = c0 I + alpha B B^T (see :mod:`fibril_hpc.precond`). The stopping test is measured against
-the half-space part of the operator, ||r|| <= tol ||K p||_S (+ a floor of 1e3 eps ||b||),
-because for soft springs most of b goes into the springs and ||r|| <= tol ||b|| would be far too lax.
+Sherman-Morrison diagonal one P = c0 I + alpha B B^T (see :mod:`fibril_hpc.precond`). The
+stopping test is measured against the half-space part of the operator, ||r|| <= tol ||K p||_S
+(+ a floor of 1e3 eps ||b||), because for soft springs most of b goes into the springs and
+||r|| <= tol ||b|| would be far too lax.
 
 The solver also keeps u = K p on *every* active element (attached or not) up to date, since the
 gaps of free elements need it. Warm start: ``x`` in, solution out (entries off S must be zero).
