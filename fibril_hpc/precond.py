@@ -174,6 +174,36 @@ class BlockPreconditioner:
             self._springs(r2, z2)
         return float(r @ z)
 
+    def apply_groups(self, groups, rhs) -> np.ndarray:
+        """M_g^-1 rhs[i] for pillar g = groups[i] on the attached set of the last ``update``.
+
+        ``rhs`` is (len(groups), m, k): k right-hand sides per pillar in its element order;
+        entries on free elements are ignored and the result is zero there (as in ``apply``).
+        """
+        out = np.zeros_like(rhs)
+        full = self._full[groups]
+        if full.any():
+            out[full] = np.matmul(self.full_inv, rhs[full])
+        for i in np.flatnonzero(~full):
+            part = self._partial.get(int(groups[i]))
+            if part is not None:
+                idx, inv = part
+                out[i, idx] = inv @ rhs[i, idx]
+        if self.alpha_g is not None:
+            for i, g in enumerate(groups):
+                if full[i]:
+                    w, c = self._w_full, self._c_full
+                elif int(g) in self._partial:
+                    idx, inv = self._partial[int(g)]
+                    w = np.zeros(self.m)
+                    w[idx] = inv.sum(axis=1)
+                    c = float(w.sum())
+                else:
+                    continue
+                a = self.alpha_g[g]
+                out[i] -= (a / (1.0 + a * c)) * w[:, None] * out[i].sum(axis=0)[None, :]
+        return out
+
     def _springs(self, r2, z2):
         """(B + a 1 1^T)^-1 r = B^-1 r - a w (1^T B^-1 r) / (1 + a 1^T w), w = B^-1 1, per pillar."""
         a = self.alpha_g
@@ -209,9 +239,13 @@ def make_preconditioner(geometry, alpha: float, c0: float, kind: str = "auto",
         return BlockPreconditioner(geometry, alpha)
     from .coarse import MAX_PILLARS, TwoLevelPreconditioner
 
+    if kind == "moments" and geometry.n_groups <= MAX_PILLARS:
+        from .moments import MomentTwoLevelPreconditioner
+
+        return MomentTwoLevelPreconditioner(geometry, alpha)
     if geometry.n_groups <= MAX_PILLARS:
         return TwoLevelPreconditioner(geometry, alpha)
-    if kind == "two_level":            # Scene refuses this first, in one line
+    if kind in ("two_level", "moments"):            # Scene refuses this first, in one line
         raise ValueError(f"two_level preconditioner needs at most {MAX_PILLARS} pillars "
                          f"(got {geometry.n_groups})")
     return BlockPreconditioner(geometry, alpha)        # "auto" on a big brush

@@ -128,7 +128,7 @@ class SolverOptions:
     max_events: int = _opt(1_000_000, "resource", Int(1, 10**9))
     max_wall_s: float | None = _opt(None, "resource", Real(0, lo_open=True, none="null"))
     preconditioner: str = _opt("auto", "accuracy",
-                               Choice(("auto", "block", "diagonal", "two_level")))
+                               Choice(("auto", "block", "diagonal", "two_level", "moments")))
     detach_policy: str = _opt("all", "accuracy", Choice(("all", "worst")))
     fft_backend: str = _opt("pyfftw", "backend", Choice(("pyfftw", "numpy")), "backend")
     fft_threads: int | None = _opt(None, "resource", Int(1, 1024, none="null (one thread)"),
@@ -337,13 +337,13 @@ class Scene:
             raise ConfigError("solver.criterion", self.solver.criterion,
                               "mesh for tip: " + self.tip + " (the footprint calibration is "
                               "defined by a flat pillar)")
-        if self.solver.preconditioner == "two_level":
+        if self.solver.preconditioner in ("two_level", "moments"):
             from .coarse import MAX_PILLARS
 
             if self.n_side**2 > MAX_PILLARS:
-                raise ConfigError("solver.preconditioner", "two_level",
+                raise ConfigError("solver.preconditioner", self.solver.preconditioner,
                                   f"auto, block or diagonal for {self.n_side**2} pillars "
-                                  f"(two_level: at most {MAX_PILLARS})")
+                                  f"({self.solver.preconditioner}: at most {MAX_PILLARS})")
 
     @property
     def rigid(self) -> bool:
