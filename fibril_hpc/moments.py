@@ -1,5 +1,6 @@
 """A coarse level of three moments per pillar (force and two tilts) for the block-Jacobi
-preconditioner.
+preconditioner (``solver.preconditioner: moments``; what ``auto`` picks where the FFT is dear
+relative to the pillar count, :func:`fibril_hpc.precond.prefers_moments`).
 
 The force-only coarse level (:mod:`fibril_hpc.coarse`) couples the pillars through their total
 forces; what the block-Jacobi level then still gets wrong is mostly the *tilt* a neighbour's

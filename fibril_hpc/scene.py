@@ -86,12 +86,15 @@ class SolverOptions:
         Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
         simulation with that reason (campaigns use it to turn a runaway job into a failed record).
     preconditioner : str
-        ``"auto"`` (default: ``"two_level"`` where all pillars share one footprint and there are
-        at most 1024 of them, ``"block"`` for more, else ``"diagonal"``), ``"block"`` (exact
-        per-pillar block Jacobi), ``"diagonal"`` (c0 I + alpha B B^T) or ``"two_level"`` (block
+        ``"auto"`` (default: where all pillars share one footprint and there are at most 1024 of
+        them ``"moments"`` if the FFT is dear enough for it (``precond.prefers_moments``), else
+        ``"two_level"``; ``"block"`` for more pillars; else ``"diagonal"``), ``"block"`` (exact
+        per-pillar block Jacobi), ``"diagonal"`` (c0 I + alpha B B^T), ``"two_level"`` (block
         Jacobi plus a coarse level of one pillar force per pillar in contact, for brushes of one
         footprint and at most 1024 pillars: same answers to the CG tolerance, about half the CG
-        iterations; see :mod:`fibril_hpc.coarse`). A choice of how the result is computed: all
+        iterations; see :mod:`fibril_hpc.coarse`) or ``"moments"`` (the same with three coarse
+        unknowns per pillar, its force and two tilts: fewer iterations again, more dense work
+        per iteration; :mod:`fibril_hpc.moments`). A choice of how the result is computed: all
         of them reach the same answer, and ``"auto"`` keeps its name in scene texts and job keys.
     detach_policy : str
         ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``

@@ -188,3 +188,55 @@ def test_multipole_blocks_approximate_the_exact_couplings():
         unit = np.sqrt(np.outer(np.diag(pc.coarse_diagonal(g)), np.diag(pc.coarse_diagonal(h))))
         err = np.abs(approx - exact) / unit
         assert err.max() <= tol * np.abs(exact / unit).max(), (g, h, err.max())
+
+
+def test_auto_picks_moments_where_the_fft_is_dear():
+    from fibril_hpc.grid import build_pillar_grid
+    from fibril_hpc.precond import make_preconditioner, prefers_moments
+
+    # the default 18 x 18 scene (FFT 640) keeps the force level; its accurate preset (1280),
+    # a 12 x 12 (420) and an 8 x 8 (280) brush at 8 elements per diameter take the moments
+    assert not prefers_moments(640, 324)
+    assert prefers_moments(1280, 324) and prefers_moments(420, 144) and prefers_moments(280, 64)
+    geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
+    assert type(make_preconditioner(geom, 0.1, 1.0, "auto", fft_size=64)) is \
+        MomentTwoLevelPreconditioner
+    assert type(make_preconditioner(geom, 0.1, 1.0, "auto", fft_size=8)) is not \
+        MomentTwoLevelPreconditioner
+    assert type(make_preconditioner(geom, 0.1, 1.0, "moments", fft_size=8)) is \
+        MomentTwoLevelPreconditioner
+
+
+def test_memory_estimate_covers_the_moment_level():
+    """limits.moment_bytes bounds what the moment level holds after a solve plus the peak of an
+    update that rebuilds F^-1 (traced), and the scene estimate adds it where auto picks it."""
+    import tracemalloc
+
+    from fibril_hpc import Scene
+    from fibril_hpc.limits import memory_estimate, moment_bytes
+    from fibril_hpc.loading import PathDriver
+    from fibril_hpc.model import build_scene_model
+
+    scene = Scene(n_side=8, elements_per_diameter=5, solver={"fft_threads": 1})
+    model = build_scene_model(scene)
+    pc = model.solver.precond
+    assert type(pc) is MomentTwoLevelPreconditioner       # what "auto" builds here
+    PathDriver(model).solve_at(1.0 * model.scaling.d_c)
+    geom = model.geometry
+    kept = sum(a.nbytes for k, a in pc.work_arrays().items() if not k.startswith("block_"))
+    att = np.ones(geom.n_active, np.uint8)
+    att[geom.starts[0]:geom.starts[30]] = 0
+    pc.update(att)
+    att[:] = 1                           # 30 pillars join: a dense rebuild on all 64
+    n_fact = pc.factorisations
+    tracemalloc.start()
+    base = tracemalloc.get_traced_memory()[0]
+    pc.update(att)
+    peak = tracemalloc.get_traced_memory()[1] - base
+    tracemalloc.stop()
+    assert pc.factorisations == n_fact + 1
+    need = moment_bytes(geom.n_groups, geom.n_active)
+    assert 3 * 8 * (3 * geom.n_groups)**2 < kept + peak <= need, (kept, peak, need)
+    n = memory_estimate(scene)[1]
+    block = scene.replace(solver=scene.solver.replace(preconditioner="block"))
+    assert memory_estimate(scene)[0] - memory_estimate(block)[0] == moment_bytes(64, n * n)
