@@ -10,8 +10,9 @@ grew by 59 and 56 bytes per m^2 (m = 2160: +275 MB, m = 3840: +829 MB, ``simulat
 preload; ``python benchmarks/scene_memory.py 40 12`` and ``60 14``).
 The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
 :data:`BASE_BYTES`, plus the two-level preconditioner's coarse level where it is used
-(``solver.preconditioner`` ``auto`` or ``two_level`` on at most ``coarse.MAX_PILLARS`` pillars):
-:func:`coarse_bytes`, dense pillar x pillar arrays that grow with n_side^4, not with the grid.
+(``solver.preconditioner`` ``auto``, ``two_level`` or ``moments`` on at most
+``coarse.MAX_PILLARS`` pillars): :func:`coarse_bytes` or :func:`moment_bytes`, dense
+pillar x pillar arrays that grow with n_side^4, not with the grid.
 It is compared with the memory available now (``MemAvailable`` of
 ``/proc/meminfo``, or a cgroup's limit when lower); ``--ignore-memory-check`` runs anyway.
 """
@@ -65,13 +66,45 @@ def coarse_bytes(n_pillars: int, n_active: int) -> int:
             + COARSE_BYTES_PER_ELEMENT * n_active)
 
 
+#: (3 n_pillars)^2 float64 arrays of the moment coarse level: three kept (the multipole
+#: couplings, F^-1 and the update work space), one copy of F^-1 while a preload snapshot is taken
+#: ahead, at most four alive during a dense rebuild (the matrix, LAPACK's two work copies and the
+#: symmetrised inverse)
+MOMENT_SQUARE_ARRAYS = 8
+#: bytes per active element of the moment level: the unit-moment shapes and the moment columns
+#: of an update (3 float64 each), the attached set it was built on (uint8)
+MOMENT_BYTES_PER_ELEMENT = 49
+
+
+def moment_bytes(n_pillars: int, n_active: int) -> int:
+    """Peak bytes of the moment coarse level (:mod:`fibril_hpc.moments`) on ``n_pillars``
+    pillars with ``n_active`` active elements (its block-Jacobi level not included)."""
+    return (8 * MOMENT_SQUARE_ARRAYS * (3 * n_pillars)**2 + 8 * 64 * n_pillars
+            + MOMENT_BYTES_PER_ELEMENT * n_active)
+
+
 def uses_coarse_level(scene) -> bool:
-    """Whether ``scene``'s solver builds the coarse level (``auto`` or ``two_level`` on at most
-    ``coarse.MAX_PILLARS`` pillars; counted whatever the footprints: an upper bound)."""
+    """Whether ``scene``'s solver builds a coarse level (``auto``, ``two_level`` or ``moments``
+    on at most ``coarse.MAX_PILLARS`` pillars; counted whatever the footprints: an upper
+    bound)."""
     from .coarse import MAX_PILLARS
 
-    return scene.solver.preconditioner in ("auto", "two_level") and \
+    return scene.solver.preconditioner in ("auto", "two_level", "moments") and \
         scene.n_side**2 <= MAX_PILLARS
+
+
+def coarse_level_bytes(scene, fft_size: int, n_active: int) -> int:
+    """Peak bytes of the coarse level ``scene``'s solver builds on an FFT of side ``fft_size``
+    (0 when it builds none): the moment level where ``auto`` would pick it, else the force one."""
+    from .precond import prefers_moments
+
+    if not uses_coarse_level(scene):
+        return 0
+    ng = scene.n_side**2
+    kind = scene.solver.preconditioner
+    if kind == "moments" or (kind == "auto" and prefers_moments(fft_size, ng)):
+        return moment_bytes(ng, n_active)
+    return coarse_bytes(ng, n_active)
 
 
 def memory_estimate(scene) -> tuple[int, int, int]:
@@ -82,8 +115,7 @@ def memory_estimate(scene) -> tuple[int, int, int]:
     n = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice).grid_side
     m = padded_size(n)
     need = BYTES_PER_FFT_ELEMENT * m * m + BASE_BYTES
-    if uses_coarse_level(scene):
-        need += coarse_bytes(scene.n_side**2, n * n)   # n^2 bounds the active elements
+    need += coarse_level_bytes(scene, m, n * n)        # n^2 bounds the active elements
     return need, n, m
 
 
@@ -136,4 +168,4 @@ def check_job_count(counts: dict) -> int:
 
 
 __all__ = ["check_grid", "check_memory", "check_job_count", "memory_estimate", "coarse_bytes",
-           "available_memory", "MAX_GRID_SIDE", "MAX_JOBS"]
+           "moment_bytes", "available_memory", "MAX_GRID_SIDE", "MAX_JOBS"]

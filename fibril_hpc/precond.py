@@ -12,9 +12,12 @@
 
 Both expose ``update(att)`` (called at the start of every solve), ``apply(r, att, z) -> r.z``,
 ``one_level`` (themselves) and ``state()`` / ``set_state(state)`` (None for both: they are
-functions of the attached set alone). ``"two_level"`` adds a coarse pillar-force level to the block one
-(:mod:`fibril_hpc.coarse`); its ``one_level`` is the block one. It is what ``"auto"`` picks for
-brushes of one footprint and at most ``coarse.MAX_PILLARS`` pillars (``make_preconditioner``).
+functions of the attached set alone). ``"two_level"`` adds a coarse pillar-force level to the
+block one (:mod:`fibril_hpc.coarse`), ``"moments"`` a coarse level of force and two tilts per
+pillar (:mod:`fibril_hpc.moments`); their ``one_level`` is the block one. ``"auto"`` picks one of
+them for brushes of one footprint and at most ``coarse.MAX_PILLARS`` pillars
+(``make_preconditioner``). The block level also solves its blocks for chosen pillars and
+several right-hand sides (``apply_groups``, the moment level's modes).
 """
 
 from __future__ import annotations
@@ -174,6 +177,36 @@ class BlockPreconditioner:
             self._springs(r2, z2)
         return float(r @ z)
 
+    def apply_groups(self, groups, rhs) -> np.ndarray:
+        """M_g^-1 rhs[i] for pillar g = groups[i] on the attached set of the last ``update``.
+
+        ``rhs`` is (len(groups), m, k): k right-hand sides per pillar in its element order;
+        entries on free elements are ignored and the result is zero there (as in ``apply``).
+        """
+        out = np.zeros_like(rhs)
+        full = self._full[groups]
+        if full.any():
+            out[full] = np.matmul(self.full_inv, rhs[full])
+        for i in np.flatnonzero(~full):
+            part = self._partial.get(int(groups[i]))
+            if part is not None:
+                idx, inv = part
+                out[i, idx] = inv @ rhs[i, idx]
+        if self.alpha_g is not None:
+            for i, g in enumerate(groups):
+                if full[i]:
+                    w, c = self._w_full, self._c_full
+                elif int(g) in self._partial:
+                    idx, inv = self._partial[int(g)]
+                    w = np.zeros(self.m)
+                    w[idx] = inv.sum(axis=1)
+                    c = float(w.sum())
+                else:
+                    continue
+                a = self.alpha_g[g]
+                out[i] -= (a / (1.0 + a * c)) * w[:, None] * out[i].sum(axis=0)[None, :]
+        return out
+
     def _springs(self, r2, z2):
         """(B + a 1 1^T)^-1 r = B^-1 r - a w (1^T B^-1 r) / (1 + a 1^T w), w = B^-1 1, per pillar."""
         a = self.alpha_g
@@ -187,15 +220,31 @@ class BlockPreconditioner:
             z2[g, idx] -= a[g] * w * z2[g, idx].sum() / (1.0 + a[g] * w.sum())
 
 
+#: ``auto`` picks the moment coarse level over the force one where an FFT pair (~ M^2 log2 M for
+#: an M x M transform) costs at least this many times the moment level's dense work per CG
+#: iteration and per set change (~ (3 n_pillars)^2): measured (benchmarks/NOTES.md, "Moment
+#: coarse level") 1.14x more CPU at a ratio of 4 (the default 18 x 18 scene), 1.15x less at 8.2
+#: (12 x 12), 1.3x less at 18 (the accurate preset on 18 x 18); fewer FFT pairs at every ratio
+MOMENTS_RATIO = 6.0
+
+
+def prefers_moments(fft_size: int, n_pillars: int) -> bool:
+    """Whether ``auto`` takes the moment coarse level for this transform size and pillar count
+    (see :data:`MOMENTS_RATIO`)."""
+    return fft_size * fft_size * np.log2(max(fft_size, 2)) >= MOMENTS_RATIO * (3 * n_pillars)**2
+
+
 def make_preconditioner(geometry, alpha: float, c0: float, kind: str = "auto",
-                        max_block: int = 1024):
+                        max_block: int = 1024, fft_size: int | None = None):
     """The CG preconditioner of ``kind``.
 
-    ``"auto"``: ``"two_level"`` (block Jacobi plus a coarse pillar level,
-    :mod:`fibril_hpc.coarse`) where all pillars share one footprint of at most ``max_block``
-    elements and there are at most ``coarse.MAX_PILLARS`` pillars, ``"block"`` where only the
-    pillar count is too large, else ``"diagonal"``. An explicit ``"block"`` or ``"two_level"``
-    the geometry does not allow is a ValueError.
+    ``"auto"``: a two-level one where all pillars share one footprint of at most ``max_block``
+    elements and there are at most ``coarse.MAX_PILLARS`` pillars: ``"moments"`` (three coarse
+    unknowns per pillar, :mod:`fibril_hpc.moments`) where the FFT of side ``fft_size`` is dear
+    enough to repay its dense work (:func:`prefers_moments`), else ``"two_level"`` (one force
+    per pillar, :mod:`fibril_hpc.coarse`); ``"block"`` where only the pillar count is too large,
+    else ``"diagonal"``. An explicit ``"block"``, ``"two_level"`` or ``"moments"`` the geometry
+    does not allow is a ValueError.
     """
     if kind == "diagonal":
         return DiagonalPreconditioner(geometry, alpha, c0)
@@ -210,8 +259,13 @@ def make_preconditioner(geometry, alpha: float, c0: float, kind: str = "auto",
     from .coarse import MAX_PILLARS, TwoLevelPreconditioner
 
     if geometry.n_groups <= MAX_PILLARS:
+        if kind == "moments" or (kind == "auto" and fft_size is not None
+                                 and prefers_moments(fft_size, geometry.n_groups)):
+            from .moments import MomentTwoLevelPreconditioner
+
+            return MomentTwoLevelPreconditioner(geometry, alpha)
         return TwoLevelPreconditioner(geometry, alpha)
-    if kind == "two_level":            # Scene refuses this first, in one line
-        raise ValueError(f"two_level preconditioner needs at most {MAX_PILLARS} pillars "
+    if kind in ("two_level", "moments"):            # Scene refuses this first, in one line
+        raise ValueError(f"{kind} preconditioner needs at most {MAX_PILLARS} pillars "
                          f"(got {geometry.n_groups})")
     return BlockPreconditioner(geometry, alpha)        # "auto" on a big brush

@@ -86,12 +86,15 @@ class SolverOptions:
         Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
         simulation with that reason (campaigns use it to turn a runaway job into a failed record).
     preconditioner : str
-        ``"auto"`` (default: ``"two_level"`` where all pillars share one footprint and there are
-        at most 1024 of them, ``"block"`` for more, else ``"diagonal"``), ``"block"`` (exact
-        per-pillar block Jacobi), ``"diagonal"`` (c0 I + alpha B B^T) or ``"two_level"`` (block
+        ``"auto"`` (default: where all pillars share one footprint and there are at most 1024 of
+        them ``"moments"`` if the FFT is dear enough for it (``precond.prefers_moments``), else
+        ``"two_level"``; ``"block"`` for more pillars; else ``"diagonal"``), ``"block"`` (exact
+        per-pillar block Jacobi), ``"diagonal"`` (c0 I + alpha B B^T), ``"two_level"`` (block
         Jacobi plus a coarse level of one pillar force per pillar in contact, for brushes of one
         footprint and at most 1024 pillars: same answers to the CG tolerance, about half the CG
-        iterations; see :mod:`fibril_hpc.coarse`). A choice of how the result is computed: all
+        iterations; see :mod:`fibril_hpc.coarse`) or ``"moments"`` (the same with three coarse
+        unknowns per pillar, its force and two tilts: fewer iterations again, more dense work
+        per iteration; :mod:`fibril_hpc.moments`). A choice of how the result is computed: all
         of them reach the same answer, and ``"auto"`` keeps its name in scene texts and job keys.
     detach_policy : str
         ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``
@@ -128,7 +131,7 @@ class SolverOptions:
     max_events: int = _opt(1_000_000, "resource", Int(1, 10**9))
     max_wall_s: float | None = _opt(None, "resource", Real(0, lo_open=True, none="null"))
     preconditioner: str = _opt("auto", "accuracy",
-                               Choice(("auto", "block", "diagonal", "two_level")))
+                               Choice(("auto", "block", "diagonal", "two_level", "moments")))
     detach_policy: str = _opt("all", "accuracy", Choice(("all", "worst")))
     fft_backend: str = _opt("pyfftw", "backend", Choice(("pyfftw", "numpy")), "backend")
     fft_threads: int | None = _opt(None, "resource", Int(1, 1024, none="null (one thread)"),
@@ -337,13 +340,13 @@ class Scene:
             raise ConfigError("solver.criterion", self.solver.criterion,
                               "mesh for tip: " + self.tip + " (the footprint calibration is "
                               "defined by a flat pillar)")
-        if self.solver.preconditioner == "two_level":
+        if self.solver.preconditioner in ("two_level", "moments"):
             from .coarse import MAX_PILLARS
 
             if self.n_side**2 > MAX_PILLARS:
-                raise ConfigError("solver.preconditioner", "two_level",
+                raise ConfigError("solver.preconditioner", self.solver.preconditioner,
                                   f"auto, block or diagonal for {self.n_side**2} pillars "
-                                  f"(two_level: at most {MAX_PILLARS})")
+                                  f"({self.solver.preconditioner}: at most {MAX_PILLARS})")
 
     @property
     def rigid(self) -> bool:

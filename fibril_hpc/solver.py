@@ -32,7 +32,8 @@ class ConstrainedCG:
     Parameters
     ----------
     operator : HalfSpace
-        Provides ``apply(x, out)`` (one FFT pair), ``c0`` and ``geometry``.
+        Provides ``apply(x, out)`` (one FFT pair), ``c0``, ``geometry`` and ``m`` (the FFT size,
+        which ``auto`` weighs in choosing the preconditioner).
     alpha : float or ndarray
         h^2/k (0 for rigid pillars); an array of one value per pillar for per-pillar stiffness.
     tol : float
@@ -46,7 +47,8 @@ class ConstrainedCG:
         from .precond import make_preconditioner
 
         self.op = operator
-        self.precond = make_preconditioner(operator.geometry, alpha, operator.c0, preconditioner)
+        self.precond = make_preconditioner(operator.geometry, alpha, operator.c0, preconditioner,
+                                           fft_size=operator.m)
         # one number, or one per pillar (per-pillar stiffnesses; the kernels take either)
         self.alpha = alpha if isinstance(alpha, np.ndarray) else float(alpha)
         self.tol = float(tol)

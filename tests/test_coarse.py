@@ -41,7 +41,7 @@ def test_auto_is_two_level_up_to_max_pillars_then_block():
         make_preconditioner(geom, 0.1, 1.0, "two_level")
 
 
-def _as_matrix(pc, geom, att):
+def as_matrix(pc, geom, att):
     """The preconditioner applied to every unit vector of the attached set S, as a matrix on S
     (and checked to leave the free elements at zero)."""
     S = np.flatnonzero(att)
@@ -82,7 +82,7 @@ def test_two_level_is_spd_with_the_exact_coarse_diagonal(setup, k_tilde):
     pc = TwoLevelPreconditioner(geom, alpha)
     pc.update(att)
     # the preconditioner as a matrix on S: symmetric positive definite (CG needs it)
-    P = _as_matrix(pc, geom, att)
+    P = as_matrix(pc, geom, att)
     np.testing.assert_allclose(P, P.T, rtol=0, atol=1e-10 * np.abs(P).max())
     assert np.linalg.eigvalsh(0.5 * (P + P.T)).min() > 0.0
     # E's diagonal is exactly Z_g^T A Z_g, Z_g = M_g^-1 1 on the pillar's attached elements
@@ -168,7 +168,7 @@ def test_coarse_inverse_follows_set_changes_by_updates(setup):
         np.testing.assert_allclose(pc.coarse_inverse, _dense_finv(pc), rtol=0,
                                    atol=1e-11 * np.abs(pc.coarse_inverse).max())
         assert np.array_equal(pc.coarse_inverse, pc.coarse_inverse.T)
-        P = _as_matrix(pc, geom, att)
+        P = as_matrix(pc, geom, att)
         np.testing.assert_allclose(P, P.T, rtol=0, atol=1e-10 * np.abs(P).max())
         assert np.linalg.eigvalsh(0.5 * (P + P.T)).min() > 0.0
     assert pc.rank_one_updates == len(changes)

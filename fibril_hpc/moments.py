@@ -1,0 +1,339 @@
+"""A coarse level of three moments per pillar (force and two tilts) for the block-Jacobi
+preconditioner (``solver.preconditioner: moments``; what ``auto`` picks where the FFT is dear
+relative to the pillar count, :func:`fibril_hpc.precond.prefers_moments`).
+
+The force-only coarse level (:mod:`fibril_hpc.coarse`) couples the pillars through their total
+forces; what the block-Jacobi level then still gets wrong is mostly the *tilt* a neighbour's
+field imposes across a pillar's footprint (its gradient), which the force level cannot carry.
+Here each pillar in contact has three coarse unknowns, its moments
+
+    q_g = C_g^T p_g,   C_g = [1, x - x_g, y - y_g] on the attached elements of pillar g,
+
+(its force and its two first moments about the footprint centre), with the modes of the exact
+block-Jacobi level M_g = A_gg: Z_g = M_g^-1 C_g, D_g = C_g^T Z_g (3 x 3, SPD) and the
+unit-moment shapes Zh_g = Z_g D_g^-1 (C_g^T Zh_g = I). In moment unknowns the coarse matrix
+F = Zh^T A Zh has the exact diagonal blocks F_gg = D_g^-1, and off-diagonal blocks from the
+multipole expansion of the half-space Green's function G(r) = h^2 / (pi E* r) between the
+footprint centres (R = c_h - c_g), to the dipole-dipole term:
+
+    F_gh = [[G,    G_x,   G_y  ],
+            [-G_x, -G_xx, -G_xy],
+            [-G_y, -G_xy, -G_yy]](R),
+
+the force-force entry being Love's exact coefficient as in the force level. The blocks depend on
+the pillars' positions only, so a set change on pillar g changes F only in its diagonal block.
+Applied as
+
+    z = M^-1 r + Zh (F^-1 - D) Zh^T r,   D = blockdiag(D_g),
+
+where per pillar M_g^-1 - Zh_g D_g Zh_g^T = M_g^-1 - Z_g D_g^-1 Z_g^T is M_g^-1 with the three
+modes projected out (positive semidefinite), so the preconditioner stays SPD for any SPD F^-1.
+A pillar whose attached elements do not span the tilts (one or two elements, or one line of
+them: D_g ill conditioned) keeps the force unknown only.
+
+F^-1 (3 n_pillars square, zero rows and columns for unknowns out of use) follows each set change
+exactly by O(n^2) block updates: a change of the diagonal blocks of pillars that keep their
+unknowns is a Woodbury update, pillars whose unknowns change are dropped (Schur complement on the
+inverse) and bordered back. It is rebuilt with a dense inverse every ``REBUILD_EVERY`` pillar
+updates, when one change moves many pillars, or when a pivot is not safely positive.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .greens import love
+from .precond import BlockPreconditioner
+from .scaling import E_STAR
+
+#: most pillars of a moment two-level scene (F^-1 is dense, 3 n_pillars square)
+MAX_PILLARS = 1024
+
+
+def multipole_couplings(cx, cy, h) -> np.ndarray:
+    """F's off-diagonal blocks, (3 n, 3 n) with zero diagonal blocks, for footprint centres
+    (cx, cy) and element side h (see the module docstring)."""
+    n = len(cx)
+    c = h * h / (np.pi * E_STAR)
+    rx = cx[None, :] - cx[:, None]
+    ry = cy[None, :] - cy[:, None]
+    r2 = rx * rx + ry * ry
+    np.fill_diagonal(r2, 1.0)
+    r = np.sqrt(r2)
+    r3 = r2 * r
+    r5 = r3 * r2
+    gx, gy = -c * rx / r3, -c * ry / r3
+    hxx = c * (3.0 * rx * rx - r2) / r5
+    hyy = c * (3.0 * ry * ry - r2) / r5
+    hxy = 3.0 * c * rx * ry / r5
+    t = np.empty((n, 3, n, 3))
+    t[:, 0, :, 0] = love(rx, ry, h)
+    t[:, 0, :, 1], t[:, 0, :, 2] = gx, gy
+    t[:, 1, :, 0], t[:, 2, :, 0] = -gx, -gy
+    t[:, 1, :, 1], t[:, 1, :, 2] = -hxx, -hxy
+    t[:, 2, :, 1], t[:, 2, :, 2] = -hxy, -hyy
+    i = np.arange(n)
+    t[i, :, i, :] = 0.0
+    return t.reshape(3 * n, 3 * n)
+
+
+class MomentTwoLevelPreconditioner:
+    """Block Jacobi plus a coarse level of three moments per pillar (module docstring)."""
+
+    #: pillar updates of F^-1 between two dense rebuilds (bounds the rounding they accumulate)
+    REBUILD_EVERY = 256
+    #: a change moving more pillars than this (and than an eighth of those in contact) rebuilds
+    MAX_UPDATES_PER_CHANGE = 8
+    #: a Schur pivot below this (relative) rebuilds; a D_g with a relative eigenvalue below
+    #: ``TILT_TOL`` keeps the force unknown only
+    PIVOT_TOL = 1e-8
+    TILT_TOL = 1e-6
+    #: relative change of a pillar's F_gg that F^-1 takes in (smaller ones are left stale: any
+    #: SPD F^-1 keeps the preconditioner SPD, and Zh, D always follow the set exactly)
+    REFRESH = 0.0
+
+    def __init__(self, geometry, alpha):
+        self.block_jacobi = BlockPreconditioner(geometry, alpha)
+        m = self.block_jacobi.m
+        self.m = m
+        ng = self.ng = geometry.n_groups
+        h = geometry.h
+        x = (geometry.ix * h).reshape(ng, m)
+        y = (geometry.iy * h).reshape(ng, m)
+        cx, cy = x.mean(axis=1), y.mean(axis=1)
+        self._centres = (cx, cy)
+        self._xr = x - cx[:, None]
+        self._yr = y - cy[:, None]
+        self._t = multipole_couplings(cx, cy, h)
+        self._att = np.zeros(geometry.n_active, dtype=np.uint8)
+        self._zh = np.zeros((ng, m, 3))           # unit-moment shapes (zero for unused modes)
+        self._d = np.zeros((ng, 3, 3))            # D_g on the used modes (zero elsewhere)
+        self._fgg = np.zeros((ng, 3, 3))          # F_gg = D_g^-1 on the used modes
+        self._fgg_built = np.zeros((ng, 3, 3))    # the F_gg that F^-1 holds
+        self._use = np.zeros((ng, 3), dtype=bool)  # unknowns in use
+        self._finv = np.zeros((3 * ng, 3 * ng))
+        self._buf = np.empty((3 * ng, 3 * ng))    # work space of the low-rank updates
+        self._since_rebuild = 0
+        self._valid = False
+        self.updates = 0
+        self.factorisations = 0
+        self.pillar_updates = 0
+
+    @property
+    def one_level(self):
+        """The preconditioner without its coarse level (the local cascade's trust test)."""
+        return self.block_jacobi
+
+    def work_arrays(self) -> dict:
+        """The arrays this preconditioner owns (its block-Jacobi level's included), by name."""
+        out = {f"block_{k}": v for k, v in self.block_jacobi.work_arrays().items()}
+        out.update({k: v for k, v in vars(self).items() if isinstance(v, np.ndarray)})
+        return out
+
+    def cache_stats(self) -> dict:
+        """The block level's cache statistics plus the coarse level's update counts."""
+        out = self.block_jacobi.cache_stats()
+        out.update({"coarse_factorisations": self.factorisations,
+                    "coarse_pillar_updates": self.pillar_updates})
+        return out
+
+    def centres(self) -> tuple:
+        """(x, y) of the footprint centres, one per pillar (physical units)."""
+        return self._centres
+
+    def coarse_unknowns(self) -> np.ndarray:
+        """(n_pillars, 3) booleans: which of force, x- and y-moment are coarse unknowns now."""
+        return self._use.copy()
+
+    def unit_moment_shapes(self) -> np.ndarray:
+        """(n_pillars, m, 3) copy of the unit-moment shapes Zh (zero for unknowns not in use)."""
+        return self._zh.copy()
+
+    def coarse_diagonal(self, g: int) -> np.ndarray:
+        """F_gg = D_g^-1 of pillar g on its unknowns in use."""
+        u = np.flatnonzero(self._use[g])
+        return self._fgg[g][np.ix_(u, u)]
+
+    @property
+    def coarse_inverse(self) -> np.ndarray:
+        """F^-1 as kept (zero rows and columns for unknowns not in use), read-only."""
+        v = self._finv.view()
+        v.flags.writeable = False
+        return v
+
+    _STATE = ("_att", "_zh", "_d", "_fgg", "_fgg_built", "_use", "_finv")
+
+    def state(self) -> dict:
+        """A copy of what the coarse level carries from one set to the next (F^-1 holds the
+        rounding of its update history: a path repeated bit for bit restores it)."""
+        out = {k: getattr(self, k).copy() for k in self._STATE}
+        out["since"], out["valid"] = self._since_rebuild, self._valid
+        return out
+
+    def set_state(self, state) -> None:
+        """Restore a ``state()``; None forgets the history (rebuilt from the set at the next
+        update, a function of the set alone)."""
+        if state is None:
+            self._valid = False
+            return
+        for k in self._STATE:
+            getattr(self, k)[...] = state[k]
+        self._since_rebuild, self._valid = state["since"], state["valid"]
+
+    # -- the per-pillar level -----------------------------------------------------------------
+    def _pillars(self, att, groups):
+        """(Zh, D, F_gg, use) of ``groups`` on the attached set ``att``."""
+        ng, m = self.ng, self.m
+        on = (att != 0).reshape(ng, m)[groups].astype(np.float64)
+        cmat = np.stack((on, on * self._xr[groups], on * self._yr[groups]), axis=2)
+        z = self.block_jacobi.apply_groups(groups, cmat)
+        d = np.einsum("gia,gib->gab", cmat, z)
+        d = 0.5 * (d + np.swapaxes(d, 1, 2))
+        use = np.zeros((len(groups), 3), dtype=bool)
+        use[:, 0] = d[:, 0, 0] > 0.0
+        s = np.sqrt(np.maximum(np.einsum("gaa->ga", d), 1e-300))
+        dn = d / (s[:, :, None] * s[:, None, :])
+        tilt = use[:, 0] & (np.linalg.eigvalsh(dn)[:, 0] > self.TILT_TOL)
+        use[:, 1:] = tilt[:, None]
+        d = d * (use[:, :, None] & use[:, None, :])
+        fgg = np.zeros_like(d)
+        zh = np.zeros_like(z)
+        for k in range(len(groups)):
+            u = np.flatnonzero(use[k])
+            if len(u):
+                inv = np.linalg.inv(d[k][np.ix_(u, u)])
+                inv = 0.5 * (inv + inv.T)
+                fgg[k][np.ix_(u, u)] = inv
+                zh[k][:, u] = z[k][:, u] @ inv
+        return zh, d, fgg, use
+
+    def update(self, att) -> None:
+        """Prepare for a solve on the attached set ``att``: the modes and F^-1 follow it."""
+        self.block_jacobi.update(att)
+        if self._valid and np.array_equal(att, self._att):
+            return
+        self.updates += 1
+        ng, m = self.ng, self.m
+        changed = np.arange(ng) if not self._valid else np.flatnonzero(
+            (att != self._att).reshape(ng, m).any(axis=1))
+        self._att[:] = att
+        zh, d, fgg, use = self._pillars(att, changed)
+        old_use = self._use[changed].copy()
+        old_fgg = self._fgg_built[changed].copy()
+        self._zh[changed], self._d[changed] = zh, d
+        self._fgg[changed], self._use[changed] = fgg, use
+        n_in = int(np.count_nonzero(self._use[:, 0]))
+        if not self._valid or len(changed) > max(self.MAX_UPDATES_PER_CHANGE, n_in // 8) \
+                or self._since_rebuild + len(changed) > self.REBUILD_EVERY \
+                or not self._follow(changed, old_use, old_fgg):
+            self._rebuild()
+
+    def coarse_matrix(self) -> tuple:
+        """(indices of the unknowns in use, F on them) of the current set."""
+        u = np.flatnonzero(self._use.ravel())
+        f = self._t[np.ix_(u, u)]
+        f += self._blockdiag(np.arange(self.ng))[np.ix_(u, u)]
+        return u, f
+
+    def _blockdiag(self, groups) -> np.ndarray:
+        """blockdiag(F_gg) of ``groups`` placed in the full 3 n square (zero elsewhere)."""
+        out = np.zeros((3 * self.ng, 3 * self.ng))
+        for g in groups:
+            out[3 * g:3 * g + 3, 3 * g:3 * g + 3] = self._fgg[g]
+        return out
+
+    def _rebuild(self) -> None:
+        u, f = self.coarse_matrix()
+        self._finv[:] = 0.0
+        if len(u):
+            inv = np.linalg.inv(f)
+            inv += inv.T
+            inv *= 0.5
+            self._finv[np.ix_(u, u)] = inv
+        self._fgg_built[:] = self._fgg
+        self._since_rebuild = 0
+        self._valid = True
+        self.factorisations += 1
+
+    def _follow(self, changed, old_use, old_fgg) -> bool:
+        """Update F^-1 for the pillars in ``changed``; False (then rebuilt) at a pivot that is
+        not safely positive."""
+        if len(changed) == 0:
+            return True
+        finv = self._finv
+        same = np.all(old_use == self._use[changed], axis=1)
+        # pillars keeping their unknowns: F_gg changes, a Woodbury update where it moved by more
+        # than REFRESH (relative) since F^-1 last took it in
+        dn = np.linalg.norm((self._fgg[changed] - old_fgg).reshape(len(changed), 9), axis=1)
+        big = dn > self.REFRESH * np.linalg.norm(old_fgg.reshape(len(changed), 9), axis=1)
+        keep = changed[same & big]
+        if len(keep):
+            j = np.concatenate([3 * g + np.flatnonzero(self._use[g]) for g in keep]) \
+                if self._use[keep].any() else np.zeros(0, dtype=np.int64)
+            if len(j):
+                delta = np.zeros((len(j), len(j)))
+                pos = 0
+                for k, g in zip(np.flatnonzero(same & big), keep):
+                    u = np.flatnonzero(self._use[g])
+                    blk = self._fgg[g][np.ix_(u, u)] - old_fgg[k][np.ix_(u, u)]
+                    delta[pos:pos + len(u), pos:pos + len(u)] = blk
+                    pos += len(u)
+                v = finv[:, j]
+                mid = np.eye(len(j)) + v[j] @ delta
+                try:
+                    x = delta @ np.linalg.inv(mid)
+                except np.linalg.LinAlgError:
+                    return False
+                x = 0.5 * (x + x.T)
+                finv -= np.matmul(v @ x, v.T, out=self._buf)
+                if not np.all(np.diag(finv)[j] > 0.0):
+                    return False
+        # pillars whose unknowns change: drop their old unknowns, border the new ones
+        move = changed[~same]
+        if len(move):
+            jo = np.concatenate([3 * g + np.flatnonzero(ou) for g, ou in
+                                 zip(move, old_use[~same])])
+            if len(jo):
+                v = finv[:, jo]
+                try:
+                    vjj = np.linalg.cholesky(v[jo])
+                except np.linalg.LinAlgError:
+                    return False
+                w = np.linalg.solve(vjj, v.T)            # L^-1 V^T
+                finv -= np.matmul(w.T, w, out=self._buf)
+                finv[jo, :] = 0.0
+                finv[:, jo] = 0.0
+            jn = np.concatenate([3 * g + np.flatnonzero(self._use[g]) for g in move])
+            if len(jn):
+                b = self._t[:, jn]
+                g_new = self._blockdiag(move)[np.ix_(jn, jn)] + self._t[np.ix_(jn, jn)]
+                u = finv @ b
+                s = g_new - b.T @ u
+                s = 0.5 * (s + s.T)
+                try:
+                    ls = np.linalg.cholesky(s)
+                except np.linalg.LinAlgError:
+                    return False
+                if np.min(np.diag(ls)) ** 2 <= self.PIVOT_TOL * np.max(np.diag(s)):
+                    return False
+                sinv = np.linalg.inv(s)
+                sinv = 0.5 * (sinv + sinv.T)
+                us = u @ sinv
+                finv += np.matmul(us, u.T, out=self._buf)
+                finv[:, jn] = -us
+                finv[jn, :] = -us.T
+                finv[np.ix_(jn, jn)] = sinv
+        done = np.concatenate([keep, move])
+        self._fgg_built[done] = self._fgg[done]
+        self._since_rebuild += len(done)
+        self.pillar_updates += len(done)
+        return True
+
+    def apply(self, r, att, z) -> float:
+        """z <- (two-level preconditioner) r on the attached set; returns r.z."""
+        self.block_jacobi.apply(r, att, z)
+        ng, m = self.ng, self.m
+        c = np.einsum("gia,gi->ga", self._zh, r.reshape(ng, m))          # Zh^T r
+        y = (self._finv @ c.ravel()).reshape(ng, 3) - np.einsum("gab,gb->ga", self._d, c)
+        z.reshape(ng, m)[:] += np.einsum("gia,ga->gi", self._zh, y)
+        return float(r @ z)

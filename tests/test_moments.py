@@ -1,0 +1,242 @@
+"""The moment coarse level (``solver.preconditioner: moments``, :mod:`fibril_hpc.moments`).
+
+It must not change any recorded contact set, event count, let-go d~ or order, F~_A or F~_P beyond
+the solver tolerance (the small brushes of tests/test_cascade.py against block Jacobi); it must be
+an SPD preconditioner on partial sets (pillars with one or two attached elements keep the force
+unknown only); F^-1 kept by low-rank updates must equal a fresh inverse; the multipole blocks must
+approximate the exact coarse couplings of well separated pillars.
+"""
+
+import numpy as np
+import pytest
+
+from fibril_hpc.moments import MomentTwoLevelPreconditioner, multipole_couplings
+
+from test_cascade import CASES, assert_same_path, run_path
+from test_coarse import as_matrix
+
+MOMENT_CASES = [c for c in CASES if "preconditioner" not in c]
+
+
+@pytest.mark.parametrize("case", MOMENT_CASES,
+                         ids=lambda c: "-".join(f"{k}={v}" for k, v in c.items()))
+def test_moments_match_block_jacobi(case):
+    assert_same_path(run_path("local", preconditioner="block", **case),
+                     run_path("local", preconditioner="moments", **case))
+
+
+@pytest.fixture(scope="module")
+def setup():
+    from fibril_hpc.grid import build_pillar_grid
+    from fibril_hpc.halfspace import HalfSpace
+
+    geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
+    op = HalfSpace(geom, threads=1)
+    return geom, op, op.dense()
+
+
+def _awkward_set(geom, seed):
+    """80 % of the elements attached, one pillar out of contact, one with a single attached
+    element and one with two (no tilt unknowns there)."""
+    rng = np.random.default_rng(seed)
+    s = geom.starts
+    att = (rng.random(geom.n_active) < 0.8).astype(np.uint8)
+    att[s[2]:s[3]] = 0
+    att[s[4]:s[5]] = 0
+    att[s[4] + 3] = 1
+    att[s[6]:s[7]] = 0
+    att[s[6] + 1:s[6] + 3] = 1
+    return att
+
+
+def _check_spd(pc, geom, att):
+    P = as_matrix(pc, geom, att)
+    np.testing.assert_allclose(P, P.T, rtol=0, atol=1e-10 * np.abs(P).max())
+    assert np.linalg.eigvalsh(0.5 * (P + P.T)).min() > 0.0
+
+
+@pytest.mark.parametrize("k_tilde", [1e-5, 1e-1, 1e2, float("inf")])
+def test_moments_is_spd_with_the_exact_diagonal_blocks(setup, k_tilde):
+    geom, op, K = setup
+    alpha = 0.0 if np.isinf(k_tilde) else geom.h**2 / k_tilde
+    att = _awkward_set(geom, 3)
+    pc = MomentTwoLevelPreconditioner(geom, alpha)
+    pc.update(att)
+    _check_spd(pc, geom, att)
+    # tilt unknowns exactly where the attached elements span them; none off contact
+    use = pc.coarse_unknowns()
+    assert not use[2].any() and list(use[4]) == [True, False, False]
+    assert list(use[6]) == [True, False, False] and use[0].all()
+    # F_gg = D_g^-1 with D_g = C_g^T M_g^-1 C_g exactly: the unit-moment shapes' energy
+    S = np.flatnonzero(att)
+    lab = geom.labels
+    A = K[np.ix_(S, S)] + alpha * (lab[S][:, None] == lab[S][None, :])
+    shapes = pc.unit_moment_shapes()
+    for g in (0, 4, 6):
+        u = np.flatnonzero(use[g])
+        zh = np.zeros((len(S), len(u)))
+        rows = lab[S] == g
+        zh[rows] = shapes[g][(att[geom.starts[g]:geom.starts[g + 1]] != 0)][:, u]
+        np.testing.assert_allclose(zh.T @ A @ zh, pc.coarse_diagonal(g), rtol=1e-8,
+                                   atol=1e-12 * np.abs(pc.coarse_diagonal(g)).max())
+
+
+@pytest.mark.parametrize("k_tilde", [1e-5, 1.0, float("inf")])
+def test_moments_cg_matches_dense_solve_in_fewer_iterations(setup, k_tilde):
+    from fibril_hpc.solver import ConstrainedCG
+
+    geom, op, K = setup
+    alpha = 0.0 if np.isinf(k_tilde) else geom.h**2 / k_tilde
+    att = _awkward_set(geom, 11)
+    S = np.flatnonzero(att)
+    lab = geom.labels
+    b = 1.0 - 0.3 * np.random.default_rng(5).random(geom.n_active)
+    A = K[np.ix_(S, S)] + alpha * (lab[S][:, None] == lab[S][None, :])
+    p_ref = np.linalg.solve(A, b[S])
+    its = {}
+    for kind in ("two_level", "moments"):
+        cg = ConstrainedCG(op, alpha, tol=1e-10, maxiter=400, preconditioner=kind)
+        p = np.zeros(geom.n_active)
+        u = np.zeros(geom.n_active)
+        its[kind] = cg.solve(att, b, p, u)
+        assert np.all(p[att == 0] == 0)
+        assert np.linalg.norm(p[S] - p_ref) / np.linalg.norm(p_ref) < 1e-7
+    assert its["moments"] <= its["two_level"], its
+
+
+def _dense_finv(pc):
+    u, F = pc.coarse_matrix()
+    ref = np.zeros_like(pc.coarse_inverse)
+    ref[np.ix_(u, u)] = np.linalg.inv(F)
+    return ref
+
+
+def test_coarse_inverse_follows_set_changes_by_updates(setup):
+    """Rings leaving, pillars leaving and joining, a pillar losing and regaining its tilts:
+    F^-1 follows by low-rank updates (no dense inverse) and equals a fresh inverse to rounding;
+    the preconditioner stays SPD on every set."""
+    geom, op, K = setup
+    pc = MomentTwoLevelPreconditioner(geom, geom.h**2 / 0.1)
+    att = np.ones(geom.n_active, np.uint8)
+    pc.update(att)
+    assert pc.factorisations == 1
+    rng = np.random.default_rng(2)
+    s = geom.starts
+    changes = [("element", 4), ("pillar_out", 0), ("element", 7), ("pillar_out", 5),
+               ("pillar_in", 0), ("one_element", 3), ("element", 0), ("pillar_in", 5),
+               ("pillar_in", 3)]
+    for what, g in changes:
+        att = att.copy()
+        if what == "element":
+            att[s[g] + rng.integers(s[g + 1] - s[g])] ^= 1
+        elif what == "one_element":
+            att[s[g]:s[g + 1]] = 0
+            att[s[g] + 2] = 1
+        else:
+            att[s[g]:s[g + 1]] = what == "pillar_in"
+        pc.update(att)
+        assert pc.factorisations == 1
+        np.testing.assert_allclose(pc.coarse_inverse, _dense_finv(pc), rtol=0,
+                                   atol=1e-10 * np.abs(pc.coarse_inverse).max())
+        _check_spd(pc, geom, att)
+    assert pc.pillar_updates == len(changes)
+    # many updates: a dense rebuild bounds the rounding they accumulate
+    for i in range(pc.REBUILD_EVERY + 2):
+        att = att.copy()
+        att[s[i % geom.n_groups] + 5 + i % 7] ^= 1
+        pc.update(att)
+    assert pc.factorisations == 2
+    np.testing.assert_allclose(pc.coarse_inverse, _dense_finv(pc), rtol=0,
+                               atol=1e-10 * np.abs(pc.coarse_inverse).max())
+
+
+def test_state_round_trip_is_bitwise(setup):
+    geom, op, K = setup
+    pc = MomentTwoLevelPreconditioner(geom, geom.h**2 / 0.1)
+    att = _awkward_set(geom, 1)
+    pc.update(att)
+    saved = pc.state()
+    r = np.random.default_rng(0).random(geom.n_active)
+    z0 = np.zeros(geom.n_active)
+    pc.apply(r, att, z0)
+    pc.update(_awkward_set(geom, 2))
+    pc.set_state(saved)
+    pc.update(att)
+    z1 = np.zeros(geom.n_active)
+    pc.apply(r, att, z1)
+    assert np.array_equal(z0, z1)
+
+
+def test_multipole_blocks_approximate_the_exact_couplings():
+    """Against Zh_g^T K Zh_h from the dense influence matrix, in units of the pillars' own
+    stiffness (F_ab / sqrt(F_gg,aa F_hh,bb)): the multipole blocks are within 2 % of the
+    coupling for neighbours (measured 1.6 %) and far better apart; the matrix is symmetric."""
+    from fibril_hpc.grid import build_pillar_grid
+    from fibril_hpc.halfspace import HalfSpace
+
+    geom = build_pillar_grid(5, 0.16, 8, 0.0, 0).geometry
+    K = HalfSpace(geom, threads=1).dense()
+    pc = MomentTwoLevelPreconditioner(geom, 0.0)
+    pc.update(np.ones(geom.n_active, np.uint8))
+    t = multipole_couplings(*pc.centres(), geom.h)
+    np.testing.assert_array_equal(t, t.T)
+    shapes = pc.unit_moment_shapes()
+    s = geom.starts
+    for g, h, tol in ((0, 1, 0.02), (0, 6, 0.02), (0, 4, 0.002), (2, 22, 0.002)):
+        exact = shapes[g].T @ K[s[g]:s[g + 1], s[h]:s[h + 1]] @ shapes[h]
+        approx = t[3 * g:3 * g + 3, 3 * h:3 * h + 3]
+        unit = np.sqrt(np.outer(np.diag(pc.coarse_diagonal(g)), np.diag(pc.coarse_diagonal(h))))
+        err = np.abs(approx - exact) / unit
+        assert err.max() <= tol * np.abs(exact / unit).max(), (g, h, err.max())
+
+
+def test_auto_picks_moments_where_the_fft_is_dear():
+    from fibril_hpc.grid import build_pillar_grid
+    from fibril_hpc.precond import make_preconditioner, prefers_moments
+
+    # the default 18 x 18 scene (FFT 640) keeps the force level; its accurate preset (1280),
+    # a 12 x 12 (420) and an 8 x 8 (280) brush at 8 elements per diameter take the moments
+    assert not prefers_moments(640, 324)
+    assert prefers_moments(1280, 324) and prefers_moments(420, 144) and prefers_moments(280, 64)
+    geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
+    assert type(make_preconditioner(geom, 0.1, 1.0, "auto", fft_size=64)) is \
+        MomentTwoLevelPreconditioner
+    assert type(make_preconditioner(geom, 0.1, 1.0, "auto", fft_size=8)) is not \
+        MomentTwoLevelPreconditioner
+    assert type(make_preconditioner(geom, 0.1, 1.0, "moments", fft_size=8)) is \
+        MomentTwoLevelPreconditioner
+
+
+def test_memory_estimate_covers_the_moment_level():
+    """limits.moment_bytes bounds what the moment level holds after a solve plus the peak of an
+    update that rebuilds F^-1 (traced), and the scene estimate adds it where auto picks it."""
+    import tracemalloc
+
+    from fibril_hpc import Scene
+    from fibril_hpc.limits import memory_estimate, moment_bytes
+    from fibril_hpc.loading import PathDriver
+    from fibril_hpc.model import build_scene_model
+
+    scene = Scene(n_side=8, elements_per_diameter=5, solver={"fft_threads": 1})
+    model = build_scene_model(scene)
+    pc = model.solver.precond
+    assert type(pc) is MomentTwoLevelPreconditioner       # what "auto" builds here
+    PathDriver(model).solve_at(1.0 * model.scaling.d_c)
+    geom = model.geometry
+    kept = sum(a.nbytes for k, a in pc.work_arrays().items() if not k.startswith("block_"))
+    att = np.ones(geom.n_active, np.uint8)
+    att[geom.starts[0]:geom.starts[30]] = 0
+    pc.update(att)
+    att[:] = 1                           # 30 pillars join: a dense rebuild on all 64
+    n_fact = pc.factorisations
+    tracemalloc.start()
+    base = tracemalloc.get_traced_memory()[0]
+    pc.update(att)
+    peak = tracemalloc.get_traced_memory()[1] - base
+    tracemalloc.stop()
+    assert pc.factorisations == n_fact + 1
+    need = moment_bytes(geom.n_groups, geom.n_active)
+    assert 3 * 8 * (3 * geom.n_groups)**2 < kept + peak <= need, (kept, peak, need)
+    n = memory_estimate(scene)[1]
+    block = scene.replace(solver=scene.solver.replace(preconditioner="block"))
+    assert memory_estimate(scene)[0] - memory_estimate(block)[0] == moment_bytes(64, n * n)
