@@ -13,7 +13,11 @@ a ``d_tilde`` preload counts as a full one). Fitted to measured paths of this so
 cascades, one thread, benchmarks/NOTES.md "Dry-run model"): at the `default` preset the default
 18 x 18 scene (one preload, F~_P = 4) and the paper grid's corners with the fixed twelve-preload
 list (0.05 ... 6.5) and with ``F_P: auto`` (round 0: 0.001 ... 4); `fast` and `accurate` from the
-same paths' ratio. Expect up to ~2x either way on single tasks (soft smooth brushes are cheaper
+same paths' ratio. Those fits were made with block Jacobi alone; the coarse levels that ``auto``
+now adds (``two_level`` at `fast` and `default` on 18 x 18, ``moments`` at `accurate`) scale
+them by ``PRESET_FACTOR``, refitted on the paper grid's eight sampled ``F_P: auto`` paths at
+`default` (measured pairs 0.55x the block fit), its four corners at `fast` (0.64x of 0.4) and
+the default scene at `accurate` (8 170 pairs against 20 255). Expect up to ~2x either way on single tasks (soft smooth brushes are cheaper
 than the model, stiff smooth ones dearer), less on a whole grid. When the output file already
 holds finished jobs, their measured mean wall time per task is used instead.
 """
@@ -31,10 +35,12 @@ PAIRS_LOADING = 2.9
 PAIRS_UNLOADING = 1.6
 #: F~_P from which an unloading costs a full one (below it, as the cube root of F~_P / F_FULL)
 F_FULL = 4.0
-#: work of a preset relative to `default` (looser tolerances and coarser batching at `fast`)
-PRESET_FACTOR = {"fast": 0.4, "default": 1.0, "accurate": 1.0}
-#: all-in CPU per FFT pair of a path over the bare timed pair (measured 1.0-2.4, mean 1.65)
-OVERHEAD = 1.65
+#: work of a preset relative to the block-Jacobi fit above, under the ``auto`` preconditioner
+#: (looser tolerances and coarser batching at `fast`; the coarse levels everywhere)
+PRESET_FACTOR = {"fast": 0.25, "default": 0.55, "accurate": 0.40}
+#: all-in CPU per FFT pair of a path over the bare timed pair (measured 1.8-2.6 on the paper
+#: grid's sampled paths, mean 2.03 at `default`, 2.06 at `fast`)
+OVERHEAD = 2.0
 
 
 def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
