@@ -17,8 +17,9 @@ same paths' ratio. Those fits were made with block Jacobi alone; the coarse leve
 now adds (``two_level`` at `fast` and `default` on 18 x 18, ``moments`` at `accurate`) scale
 them by ``PRESET_FACTOR``, refitted on the paper grid's eight sampled ``F_P: auto`` paths at
 `default` (measured pairs 0.55x the block fit), its four corners at `fast` (0.64x of 0.4) and
-the default scene at `accurate` (8 170 pairs against 20 255). Expect up to ~2x either way on single tasks (soft smooth brushes are cheaper
-than the model, stiff smooth ones dearer), less on a whole grid. When the output file already
+the default scene at `accurate` (8 170 pairs against 20 255). Expect up to ~2x either way on
+single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones dearer), less
+on a whole grid. When the output file already
 holds finished jobs, their measured mean wall time per task is used instead.
 """
 
