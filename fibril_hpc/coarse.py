@@ -38,7 +38,41 @@ from .precond import BlockPreconditioner
 MAX_PILLARS = 1024
 
 
-class TwoLevelPreconditioner:
+class CoarseLevel:
+    """What the coarse levels share (this module's force level, :mod:`fibril_hpc.moments`):
+    the block-Jacobi level underneath (``block_jacobi``) and the dense coarse inverse ``_finv``,
+    read through ``coarse_inverse``; subclasses give ``update_counts()``."""
+
+    @property
+    def one_level(self):
+        """The preconditioner without its coarse level (the local cascade's trust test)."""
+        return self.block_jacobi
+
+    def work_arrays(self) -> dict:
+        """The arrays this preconditioner owns (its block-Jacobi level's included), by name."""
+        out = {f"block_{k}": v for k, v in self.block_jacobi.work_arrays().items()}
+        out.update({k: v for k, v in vars(self).items() if isinstance(v, np.ndarray)})
+        return out
+
+    def cache_stats(self) -> dict:
+        """The block level's cache statistics plus the coarse level's update counts."""
+        out = self.block_jacobi.cache_stats()
+        out.update(self.update_counts())
+        return out
+
+    @property
+    def coarse_inverse(self) -> np.ndarray:
+        """F^-1 as kept (zero rows and columns for unknowns not in use), read-only."""
+        v = self._finv.view()
+        v.flags.writeable = False
+        return v
+
+    def update_counts(self) -> dict:
+        """Counts of the coarse level's dense rebuilds and updates so far."""
+        raise NotImplementedError
+
+
+class TwoLevelPreconditioner(CoarseLevel):
     """Block Jacobi plus a coarse pillar-force correction (see the module docstring)."""
 
     #: rank-one updates of F^-1 between two dense rebuilds (bounds the rounding they accumulate)
@@ -71,23 +105,10 @@ class TwoLevelPreconditioner:
         self.factorisations = 0
         self.rank_one_updates = 0
 
-    @property
-    def one_level(self):
-        """The preconditioner without its coarse level (the local cascade's trust test)."""
-        return self.block_jacobi
-
-    def work_arrays(self) -> dict:
-        """The arrays this preconditioner owns (its block-Jacobi level's included), by name."""
-        out = {f"block_{k}": v for k, v in self.block_jacobi.work_arrays().items()}
-        out.update({k: v for k, v in vars(self).items() if isinstance(v, np.ndarray)})
-        return out
-
-    def cache_stats(self) -> dict:
-        """The block level's cache statistics plus the coarse level's update counts."""
-        out = self.block_jacobi.cache_stats()
-        out.update({"coarse_factorisations": self.factorisations,
-                    "coarse_rank_one_updates": self.rank_one_updates})
-        return out
+    def update_counts(self) -> dict:
+        """Dense rebuilds and rank-one updates of F^-1 so far."""
+        return {"coarse_factorisations": self.factorisations,
+                "coarse_rank_one_updates": self.rank_one_updates}
 
     def state(self) -> dict:
         """A copy of what the coarse level carries from one set to the next. F^-1 follows the
@@ -138,12 +159,6 @@ class TwoLevelPreconditioner:
         F[np.diag_indices(len(g))] = 1.0 / W[g]
         return g, F
 
-    @property
-    def coarse_inverse(self) -> np.ndarray:
-        """F^-1 as kept (ng x ng; zero rows and columns for pillars out of contact), read-only."""
-        v = self._finv.view()
-        v.flags.writeable = False
-        return v
 
     def _rebuild(self, W) -> None:
         g, F = self.coarse_matrix(W)

@@ -43,6 +43,7 @@ from __future__ import annotations
 import numpy as np
 
 from .greens import love
+from .coarse import CoarseLevel
 from .precond import BlockPreconditioner
 from .scaling import E_STAR
 
@@ -77,7 +78,7 @@ def multipole_couplings(cx, cy, h) -> np.ndarray:
     return t.reshape(3 * n, 3 * n)
 
 
-class MomentTwoLevelPreconditioner:
+class MomentTwoLevelPreconditioner(CoarseLevel):
     """Block Jacobi plus a coarse level of three moments per pillar (module docstring)."""
 
     #: pillar updates of F^-1 between two dense rebuilds (bounds the rounding they accumulate)
@@ -119,23 +120,10 @@ class MomentTwoLevelPreconditioner:
         self.factorisations = 0
         self.pillar_updates = 0
 
-    @property
-    def one_level(self):
-        """The preconditioner without its coarse level (the local cascade's trust test)."""
-        return self.block_jacobi
-
-    def work_arrays(self) -> dict:
-        """The arrays this preconditioner owns (its block-Jacobi level's included), by name."""
-        out = {f"block_{k}": v for k, v in self.block_jacobi.work_arrays().items()}
-        out.update({k: v for k, v in vars(self).items() if isinstance(v, np.ndarray)})
-        return out
-
-    def cache_stats(self) -> dict:
-        """The block level's cache statistics plus the coarse level's update counts."""
-        out = self.block_jacobi.cache_stats()
-        out.update({"coarse_factorisations": self.factorisations,
-                    "coarse_pillar_updates": self.pillar_updates})
-        return out
+    def update_counts(self) -> dict:
+        """Dense rebuilds and pillar block updates of F^-1 so far."""
+        return {"coarse_factorisations": self.factorisations,
+                "coarse_pillar_updates": self.pillar_updates}
 
     def centres(self) -> tuple:
         """(x, y) of the footprint centres, one per pillar (physical units)."""
@@ -153,13 +141,6 @@ class MomentTwoLevelPreconditioner:
         """F_gg = D_g^-1 of pillar g on its unknowns in use."""
         u = np.flatnonzero(self._use[g])
         return self._fgg[g][np.ix_(u, u)]
-
-    @property
-    def coarse_inverse(self) -> np.ndarray:
-        """F^-1 as kept (zero rows and columns for unknowns not in use), read-only."""
-        v = self._finv.view()
-        v.flags.writeable = False
-        return v
 
     _STATE = ("_att", "_zh", "_d", "_fgg", "_fgg_built", "_use", "_finv")
 

@@ -11,3 +11,15 @@ from fibril_hpc.scene import SolverOptions  # noqa: E402
 def opts():
     """Single-threaded, estimate-planned options (tests never pay expensive planning)."""
     return SolverOptions(fft_threads=1, fft_planner="estimate")
+
+
+@pytest.fixture(scope="module")
+def small_brush():
+    """(geometry, half-space operator, its dense matrix) of a 3 x 3 brush at 6 elements per
+    diameter: the preconditioner tests' matrices (tests/test_coarse.py, test_moments.py)."""
+    from fibril_hpc.grid import build_pillar_grid
+    from fibril_hpc.halfspace import HalfSpace
+
+    geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
+    op = HalfSpace(geom, threads=1)
+    return geom, op, op.dense()

@@ -1,9 +1,11 @@
 """The moment coarse level (``solver.preconditioner: moments``, :mod:`fibril_hpc.moments`).
 
 It must not change any recorded contact set, event count, let-go d~ or order, F~_A or F~_P beyond
-the solver tolerance (the small brushes of tests/test_cascade.py against block Jacobi); it must be
+the solver tolerance (tests/test_coarse.py runs the small brushes of tests/test_cascade.py against
+block Jacobi with both coarse levels); it must be
 an SPD preconditioner on partial sets (pillars with one or two attached elements keep the force
-unknown only); F^-1 kept by low-rank updates must equal a fresh inverse; the multipole blocks must
+unknown only); F^-1 kept by low-rank updates must equal a fresh inverse (tested for both levels
+in tests/test_coarse.py); the multipole blocks must
 approximate the exact coarse couplings of well separated pillars.
 """
 
@@ -12,28 +14,7 @@ import pytest
 
 from fibril_hpc.moments import MomentTwoLevelPreconditioner, multipole_couplings
 
-from test_cascade import CASES, assert_same_path, run_path
-from test_coarse import as_matrix
-
-MOMENT_CASES = [c for c in CASES if "preconditioner" not in c]
-
-
-@pytest.mark.parametrize("case", MOMENT_CASES,
-                         ids=lambda c: "-".join(f"{k}={v}" for k, v in c.items()))
-def test_moments_match_block_jacobi(case):
-    assert_same_path(run_path("local", preconditioner="block", **case),
-                     run_path("local", preconditioner="moments", **case))
-
-
-@pytest.fixture(scope="module")
-def setup():
-    from fibril_hpc.grid import build_pillar_grid
-    from fibril_hpc.halfspace import HalfSpace
-
-    geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
-    op = HalfSpace(geom, threads=1)
-    return geom, op, op.dense()
-
+from test_coarse import as_matrix, traced_coarse_bytes
 
 def _awkward_set(geom, seed):
     """80 % of the elements attached, one pillar out of contact, one with a single attached
@@ -56,8 +37,8 @@ def _check_spd(pc, geom, att):
 
 
 @pytest.mark.parametrize("k_tilde", [1e-5, 1e-1, 1e2, float("inf")])
-def test_moments_is_spd_with_the_exact_diagonal_blocks(setup, k_tilde):
-    geom, op, K = setup
+def test_moments_is_spd_with_the_exact_diagonal_blocks(small_brush, k_tilde):
+    geom, op, K = small_brush
     alpha = 0.0 if np.isinf(k_tilde) else geom.h**2 / k_tilde
     att = _awkward_set(geom, 3)
     pc = MomentTwoLevelPreconditioner(geom, alpha)
@@ -81,77 +62,8 @@ def test_moments_is_spd_with_the_exact_diagonal_blocks(setup, k_tilde):
                                    atol=1e-12 * np.abs(pc.coarse_diagonal(g)).max())
 
 
-@pytest.mark.parametrize("k_tilde", [1e-5, 1.0, float("inf")])
-def test_moments_cg_matches_dense_solve_in_fewer_iterations(setup, k_tilde):
-    from fibril_hpc.solver import ConstrainedCG
-
-    geom, op, K = setup
-    alpha = 0.0 if np.isinf(k_tilde) else geom.h**2 / k_tilde
-    att = _awkward_set(geom, 11)
-    S = np.flatnonzero(att)
-    lab = geom.labels
-    b = 1.0 - 0.3 * np.random.default_rng(5).random(geom.n_active)
-    A = K[np.ix_(S, S)] + alpha * (lab[S][:, None] == lab[S][None, :])
-    p_ref = np.linalg.solve(A, b[S])
-    its = {}
-    for kind in ("two_level", "moments"):
-        cg = ConstrainedCG(op, alpha, tol=1e-10, maxiter=400, preconditioner=kind)
-        p = np.zeros(geom.n_active)
-        u = np.zeros(geom.n_active)
-        its[kind] = cg.solve(att, b, p, u)
-        assert np.all(p[att == 0] == 0)
-        assert np.linalg.norm(p[S] - p_ref) / np.linalg.norm(p_ref) < 1e-7
-    assert its["moments"] <= its["two_level"], its
-
-
-def _dense_finv(pc):
-    u, F = pc.coarse_matrix()
-    ref = np.zeros_like(pc.coarse_inverse)
-    ref[np.ix_(u, u)] = np.linalg.inv(F)
-    return ref
-
-
-def test_coarse_inverse_follows_set_changes_by_updates(setup):
-    """Rings leaving, pillars leaving and joining, a pillar losing and regaining its tilts:
-    F^-1 follows by low-rank updates (no dense inverse) and equals a fresh inverse to rounding;
-    the preconditioner stays SPD on every set."""
-    geom, op, K = setup
-    pc = MomentTwoLevelPreconditioner(geom, geom.h**2 / 0.1)
-    att = np.ones(geom.n_active, np.uint8)
-    pc.update(att)
-    assert pc.factorisations == 1
-    rng = np.random.default_rng(2)
-    s = geom.starts
-    changes = [("element", 4), ("pillar_out", 0), ("element", 7), ("pillar_out", 5),
-               ("pillar_in", 0), ("one_element", 3), ("element", 0), ("pillar_in", 5),
-               ("pillar_in", 3)]
-    for what, g in changes:
-        att = att.copy()
-        if what == "element":
-            att[s[g] + rng.integers(s[g + 1] - s[g])] ^= 1
-        elif what == "one_element":
-            att[s[g]:s[g + 1]] = 0
-            att[s[g] + 2] = 1
-        else:
-            att[s[g]:s[g + 1]] = what == "pillar_in"
-        pc.update(att)
-        assert pc.factorisations == 1
-        np.testing.assert_allclose(pc.coarse_inverse, _dense_finv(pc), rtol=0,
-                                   atol=1e-10 * np.abs(pc.coarse_inverse).max())
-        _check_spd(pc, geom, att)
-    assert pc.pillar_updates == len(changes)
-    # many updates: a dense rebuild bounds the rounding they accumulate
-    for i in range(pc.REBUILD_EVERY + 2):
-        att = att.copy()
-        att[s[i % geom.n_groups] + 5 + i % 7] ^= 1
-        pc.update(att)
-    assert pc.factorisations == 2
-    np.testing.assert_allclose(pc.coarse_inverse, _dense_finv(pc), rtol=0,
-                               atol=1e-10 * np.abs(pc.coarse_inverse).max())
-
-
-def test_state_round_trip_is_bitwise(setup):
-    geom, op, K = setup
+def test_state_round_trip_is_bitwise(small_brush):
+    geom, op, K = small_brush
     pc = MomentTwoLevelPreconditioner(geom, geom.h**2 / 0.1)
     att = _awkward_set(geom, 1)
     pc.update(att)
@@ -210,31 +122,11 @@ def test_auto_picks_moments_where_the_fft_is_dear():
 def test_memory_estimate_covers_the_moment_level():
     """limits.moment_bytes bounds what the moment level holds after a solve plus the peak of an
     update that rebuilds F^-1 (traced), and the scene estimate adds it where auto picks it."""
-    import tracemalloc
-
     from fibril_hpc import Scene
     from fibril_hpc.limits import memory_estimate, moment_bytes
-    from fibril_hpc.loading import PathDriver
-    from fibril_hpc.model import build_scene_model
 
     scene = Scene(n_side=8, elements_per_diameter=5, solver={"fft_threads": 1})
-    model = build_scene_model(scene)
-    pc = model.solver.precond
-    assert type(pc) is MomentTwoLevelPreconditioner       # what "auto" builds here
-    PathDriver(model).solve_at(1.0 * model.scaling.d_c)
-    geom = model.geometry
-    kept = sum(a.nbytes for k, a in pc.work_arrays().items() if not k.startswith("block_"))
-    att = np.ones(geom.n_active, np.uint8)
-    att[geom.starts[0]:geom.starts[30]] = 0
-    pc.update(att)
-    att[:] = 1                           # 30 pillars join: a dense rebuild on all 64
-    n_fact = pc.factorisations
-    tracemalloc.start()
-    base = tracemalloc.get_traced_memory()[0]
-    pc.update(att)
-    peak = tracemalloc.get_traced_memory()[1] - base
-    tracemalloc.stop()
-    assert pc.factorisations == n_fact + 1
+    kept, peak, geom = traced_coarse_bytes(scene, MomentTwoLevelPreconditioner, 30)
     need = moment_bytes(geom.n_groups, geom.n_active)
     assert 3 * 8 * (3 * geom.n_groups)**2 < kept + peak <= need, (kept, peak, need)
     n = memory_estimate(scene)[1]
