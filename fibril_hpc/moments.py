@@ -89,9 +89,6 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
     #: ``TILT_TOL`` keeps the force unknown only
     PIVOT_TOL = 1e-8
     TILT_TOL = 1e-6
-    #: relative change of a pillar's F_gg that F^-1 takes in (smaller ones are left stale: any
-    #: SPD F^-1 keeps the preconditioner SPD, and Zh, D always follow the set exactly)
-    REFRESH = 0.0
 
     def __init__(self, geometry, alpha):
         self.block_jacobi = BlockPreconditioner(geometry, alpha)
@@ -110,7 +107,6 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         self._zh = np.zeros((ng, m, 3))           # unit-moment shapes (zero for unused modes)
         self._d = np.zeros((ng, 3, 3))            # D_g on the used modes (zero elsewhere)
         self._fgg = np.zeros((ng, 3, 3))          # F_gg = D_g^-1 on the used modes
-        self._fgg_built = np.zeros((ng, 3, 3))    # the F_gg that F^-1 holds
         self._use = np.zeros((ng, 3), dtype=bool)  # unknowns in use
         self._finv = np.zeros((3 * ng, 3 * ng))
         self._buf = np.empty((3 * ng, 3 * ng))    # work space of the low-rank updates
@@ -142,7 +138,7 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         u = np.flatnonzero(self._use[g])
         return self._fgg[g][np.ix_(u, u)]
 
-    _STATE = ("_att", "_zh", "_d", "_fgg", "_fgg_built", "_use", "_finv")
+    _STATE = ("_att", "_zh", "_d", "_fgg", "_use", "_finv")
 
     def state(self) -> dict:
         """A copy of what the coarse level carries from one set to the next (F^-1 holds the
@@ -200,7 +196,7 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         self._att[:] = att
         zh, d, fgg, use = self._pillars(att, changed)
         old_use = self._use[changed].copy()
-        old_fgg = self._fgg_built[changed].copy()
+        old_fgg = self._fgg[changed].copy()
         self._zh[changed], self._d[changed] = zh, d
         self._fgg[changed], self._use[changed] = fgg, use
         n_in = int(np.count_nonzero(self._use[:, 0]))
@@ -231,7 +227,6 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
             inv += inv.T
             inv *= 0.5
             self._finv[np.ix_(u, u)] = inv
-        self._fgg_built[:] = self._fgg
         self._since_rebuild = 0
         self._valid = True
         self.factorisations += 1
@@ -243,18 +238,16 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
             return True
         finv = self._finv
         same = np.all(old_use == self._use[changed], axis=1)
-        # pillars keeping their unknowns: F_gg changes, a Woodbury update where it moved by more
-        # than REFRESH (relative) since F^-1 last took it in
-        dn = np.linalg.norm((self._fgg[changed] - old_fgg).reshape(len(changed), 9), axis=1)
-        big = dn > self.REFRESH * np.linalg.norm(old_fgg.reshape(len(changed), 9), axis=1)
-        keep = changed[same & big]
+        # pillars keeping their unknowns whose F_gg changed: a Woodbury update
+        moved = np.any((self._fgg[changed] != old_fgg).reshape(len(changed), 9), axis=1)
+        keep = changed[same & moved]
         if len(keep):
             j = np.concatenate([3 * g + np.flatnonzero(self._use[g]) for g in keep]) \
                 if self._use[keep].any() else np.zeros(0, dtype=np.int64)
             if len(j):
                 delta = np.zeros((len(j), len(j)))
                 pos = 0
-                for k, g in zip(np.flatnonzero(same & big), keep):
+                for k, g in zip(np.flatnonzero(same & moved), keep):
                     u = np.flatnonzero(self._use[g])
                     blk = self._fgg[g][np.ix_(u, u)] - old_fgg[k][np.ix_(u, u)]
                     delta[pos:pos + len(u), pos:pos + len(u)] = blk
@@ -287,7 +280,12 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
             jn = np.concatenate([3 * g + np.flatnonzero(self._use[g]) for g in move])
             if len(jn):
                 b = self._t[:, jn]
-                g_new = self._blockdiag(move)[np.ix_(jn, jn)] + self._t[np.ix_(jn, jn)]
+                g_new = self._t[np.ix_(jn, jn)]
+                pos = 0
+                for g in move:
+                    u = np.flatnonzero(self._use[g])
+                    g_new[pos:pos + len(u), pos:pos + len(u)] += self._fgg[g][np.ix_(u, u)]
+                    pos += len(u)
                 u = finv @ b
                 s = g_new - b.T @ u
                 s = 0.5 * (s + s.T)
@@ -305,7 +303,6 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
                 finv[jn, :] = -us.T
                 finv[np.ix_(jn, jn)] = sinv
         done = np.concatenate([keep, move])
-        self._fgg_built[done] = self._fgg[done]
         self._since_rebuild += len(done)
         self.pillar_updates += len(done)
         return True
