@@ -141,10 +141,12 @@ class OperatorCache:
 
     def factor(self, scene: Scene, compute) -> float:
         """The detachment criterion's factor of ``scene`` (``compute(scene)``, once per lattice
-        step and accuracy options: it depends on the footprint and the solver's tolerances)."""
+        step and accuracy options: it depends on the footprint and the solver's tolerances, not
+        on the number of pillars, so the grids of a campaign that differ only in ``n_side``
+        share it)."""
         if scene.solver.criterion == "mesh" or not scene.adhesion:
             return 1.0
-        k = (scene.n_side, scene.phi, scene_lattice(scene).pitch, scene.lattice,
+        k = (scene.phi, scene_lattice(scene).pitch, scene.lattice,
              tuple(getattr(scene.solver, n) for n in SolverOptions.of_kind("accuracy")))
         if k not in self._factors:
             self._factors[k] = compute(scene)

@@ -48,11 +48,14 @@ def test_factor_is_one_footprints_and_scales_sigma_c():
     assert m.sigma_c == critical_stress(m.geometry.h, 1.0) * a
     # no adhesion: no criterion, nothing to calibrate
     assert footprint_factor(s.replace(adhesion=False)) == 1.0
-    # a campaign's operator cache computes it once per lattice step and accuracy options
+    # a campaign's operator cache computes it once per lattice step and accuracy options, for
+    # every brush size alike
     calls = []
     cache = OperatorCache()
-    for _ in range(3):
-        cache.factor(s, lambda sc: calls.append(sc) or footprint_factor(sc))
+    for n_side in (3, 3, 5, 2):
+        got = cache.factor(s.replace(n_side=n_side),
+                           lambda sc: calls.append(sc) or footprint_factor(sc))
+        assert got == a
     assert len(calls) == 1
 
 
