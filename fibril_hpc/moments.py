@@ -47,9 +47,6 @@ from .coarse import CoarseLevel
 from .precond import BlockPreconditioner
 from .scaling import E_STAR
 
-#: most pillars of a moment two-level scene (F^-1 is dense, 3 n_pillars square)
-MAX_PILLARS = 1024
-
 
 def multipole_couplings(cx, cy, h) -> np.ndarray:
     """F's off-diagonal blocks, (3 n, 3 n) with zero diagonal blocks, for footprint centres
