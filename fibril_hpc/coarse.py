@@ -40,8 +40,45 @@ MAX_PILLARS = 1024
 
 class CoarseLevel:
     """What the coarse levels share (this module's force level, :mod:`fibril_hpc.moments`):
-    the block-Jacobi level underneath (``block_jacobi``) and the dense coarse inverse ``_finv``,
-    read through ``coarse_inverse``; subclasses give ``update_counts()``."""
+    the block-Jacobi level underneath (``block_jacobi``), the attached set the coarse level was
+    built on, the dense coarse inverse ``_finv`` (read through ``coarse_inverse``), its rebuild
+    bookkeeping and the saving of all that (``state``; the arrays named in ``_STATE``).
+    Subclasses give ``update_counts()``."""
+
+    #: the arrays ``state()`` copies (besides the rebuild bookkeeping)
+    _STATE: tuple = ()
+
+    def __init__(self, geometry, alpha):
+        self.block_jacobi = BlockPreconditioner(geometry, alpha)
+        self.m = self.block_jacobi.m
+        self.ng = geometry.n_groups
+        self._att = np.zeros(geometry.n_active, dtype=np.uint8)
+        self._since_rebuild = 0
+        self._valid = False                           # F^-1 built (else: rebuild at next update)
+        self.updates = 0
+        self.factorisations = 0
+
+    def state(self) -> dict:
+        """A copy of what the coarse level carries from one set to the next. F^-1 follows the
+        set by updates, so it holds the rounding of its history: a path that must be repeatable
+        bit for bit (a preload snapshot taken ahead and put back) saves and restores it."""
+        out = {k: getattr(self, k).copy() for k in self._STATE}
+        out["since"], out["valid"] = self._since_rebuild, self._valid
+        return out
+
+    def set_state(self, state) -> None:
+        """Restore a ``state()``; None forgets the history (F^-1 is rebuilt densely from the set
+        at the next update, a function of the set alone)."""
+        if state is None:
+            self._valid = False
+            return
+        for k in self._STATE:
+            getattr(self, k)[...] = state[k]
+        self._since_rebuild, self._valid = state["since"], state["valid"]
+        self._restored()
+
+    def _restored(self) -> None:
+        """Recompute what derives from the restored arrays (nothing here)."""
 
     @property
     def one_level(self):
@@ -83,26 +120,21 @@ class TwoLevelPreconditioner(CoarseLevel):
     #: an update whose pivot is below this times its natural scale (W_g, 1/W_g or 1) rebuilds
     PIVOT_TOL = 1e-8
 
+    _STATE = ("_att", "_w", "_W", "_finv")
+
     def __init__(self, geometry, alpha):
-        self.block_jacobi = BlockPreconditioner(geometry, alpha)
-        m = self.block_jacobi.m
-        self.m = m
-        self.ng = geometry.n_groups
+        super().__init__(geometry, alpha)
+        m = self.m
         h = geometry.h
         cy = geometry.iy.reshape(self.ng, m).mean(axis=1) * h
         cx = geometry.ix.reshape(self.ng, m).mean(axis=1) * h
         self._far = love(cx[:, None] - cx[None, :], cy[:, None] - cy[None, :], h)
         np.fill_diagonal(self._far, 0.0)              # F's diagonal is 1/W_g (exact)
-        self._att = np.zeros(geometry.n_active, dtype=np.uint8)
         self._w = np.zeros(geometry.n_active)         # Z, element by element
         self._W = np.zeros(self.ng)                   # W_g (0: pillar out of contact)
         self._inv_w = np.zeros(self.ng)               # 1/W_g (0: out of contact)
         self._finv = np.zeros((self.ng, self.ng))     # F^-1 on the pillars in contact
         self._c = np.zeros(self.ng)
-        self._since_rebuild = 0
-        self._valid = False                           # F^-1 built (else: rebuild at next update)
-        self.updates = 0
-        self.factorisations = 0
         self.rank_one_updates = 0
 
     def update_counts(self) -> dict:
@@ -110,26 +142,9 @@ class TwoLevelPreconditioner(CoarseLevel):
         return {"coarse_factorisations": self.factorisations,
                 "coarse_rank_one_updates": self.rank_one_updates}
 
-    def state(self) -> dict:
-        """A copy of what the coarse level carries from one set to the next. F^-1 follows the
-        set by updates, so it holds the rounding of its history: a path that must be repeatable
-        bit for bit (a preload snapshot taken ahead and put back) saves and restores it."""
-        return {"att": self._att.copy(), "w": self._w.copy(), "W": self._W.copy(),
-                "finv": self._finv.copy(), "since": self._since_rebuild, "valid": self._valid}
-
-    def set_state(self, state) -> None:
-        """Restore a ``state()``; None forgets the history (F^-1 is rebuilt densely from the set
-        at the next update, a function of the set alone)."""
-        if state is None:
-            self._valid = False
-            return
-        self._att[:] = state["att"]
-        self._w[:] = state["w"]
-        self._W = state["W"].copy()
+    def _restored(self) -> None:
+        """1/W_g from the restored W."""
         self._inv_w = np.divide(1.0, self._W, out=np.zeros_like(self._W), where=self._W > 0.0)
-        self._finv[:] = state["finv"]
-        self._since_rebuild = state["since"]
-        self._valid = state["valid"]
 
     def update(self, att) -> None:
         """Prepare for a solve on the attached set ``att``: Z, W and F^-1 follow it exactly."""
@@ -158,7 +173,6 @@ class TwoLevelPreconditioner(CoarseLevel):
         F = self._far[np.ix_(g, g)]
         F[np.diag_indices(len(g))] = 1.0 / W[g]
         return g, F
-
 
     def _rebuild(self, W) -> None:
         g, F = self.coarse_matrix(W)

@@ -44,7 +44,6 @@ import numpy as np
 
 from .greens import love
 from .coarse import CoarseLevel
-from .precond import BlockPreconditioner
 from .scaling import E_STAR
 
 
@@ -87,11 +86,11 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
     PIVOT_TOL = 1e-8
     TILT_TOL = 1e-6
 
+    _STATE = ("_att", "_zh", "_d", "_fgg", "_use", "_finv")
+
     def __init__(self, geometry, alpha):
-        self.block_jacobi = BlockPreconditioner(geometry, alpha)
-        m = self.block_jacobi.m
-        self.m = m
-        ng = self.ng = geometry.n_groups
+        super().__init__(geometry, alpha)
+        m, ng = self.m, self.ng
         h = geometry.h
         x = (geometry.ix * h).reshape(ng, m)
         y = (geometry.iy * h).reshape(ng, m)
@@ -100,17 +99,12 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         self._xr = x - cx[:, None]
         self._yr = y - cy[:, None]
         self._t = multipole_couplings(cx, cy, h)
-        self._att = np.zeros(geometry.n_active, dtype=np.uint8)
         self._zh = np.zeros((ng, m, 3))           # unit-moment shapes (zero for unused modes)
         self._d = np.zeros((ng, 3, 3))            # D_g on the used modes (zero elsewhere)
         self._fgg = np.zeros((ng, 3, 3))          # F_gg = D_g^-1 on the used modes
         self._use = np.zeros((ng, 3), dtype=bool)  # unknowns in use
         self._finv = np.zeros((3 * ng, 3 * ng))
         self._buf = np.empty((3 * ng, 3 * ng))    # work space of the low-rank updates
-        self._since_rebuild = 0
-        self._valid = False
-        self.updates = 0
-        self.factorisations = 0
         self.pillar_updates = 0
 
     def update_counts(self) -> dict:
@@ -134,25 +128,6 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         """F_gg = D_g^-1 of pillar g on its unknowns in use."""
         u = np.flatnonzero(self._use[g])
         return self._fgg[g][np.ix_(u, u)]
-
-    _STATE = ("_att", "_zh", "_d", "_fgg", "_use", "_finv")
-
-    def state(self) -> dict:
-        """A copy of what the coarse level carries from one set to the next (F^-1 holds the
-        rounding of its update history: a path repeated bit for bit restores it)."""
-        out = {k: getattr(self, k).copy() for k in self._STATE}
-        out["since"], out["valid"] = self._since_rebuild, self._valid
-        return out
-
-    def set_state(self, state) -> None:
-        """Restore a ``state()``; None forgets the history (rebuilt from the set at the next
-        update, a function of the set alone)."""
-        if state is None:
-            self._valid = False
-            return
-        for k in self._STATE:
-            getattr(self, k)[...] = state[k]
-        self._since_rebuild, self._valid = state["since"], state["valid"]
 
     # -- the per-pillar level -----------------------------------------------------------------
     def _pillars(self, att, groups):
@@ -204,17 +179,20 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
 
     def coarse_matrix(self) -> tuple:
         """(indices of the unknowns in use, F on them) of the current set."""
-        u = np.flatnonzero(self._use.ravel())
-        f = self._t[np.ix_(u, u)]
-        f += self._blockdiag(np.arange(self.ng))[np.ix_(u, u)]
-        return u, f
+        return self._unknowns_block(np.arange(self.ng))
 
-    def _blockdiag(self, groups) -> np.ndarray:
-        """blockdiag(F_gg) of ``groups`` placed in the full 3 n square (zero elsewhere)."""
-        out = np.zeros((3 * self.ng, 3 * self.ng))
+    def _unknowns_block(self, groups) -> tuple:
+        """(indices j of the unknowns in use of ``groups``, pillar by pillar, F[j, j]): the
+        multipole couplings plus the diagonal blocks F_gg."""
+        j = [3 * g + np.flatnonzero(self._use[g]) for g in groups]
+        j = np.concatenate(j) if j else np.zeros(0, dtype=np.int64)
+        f = self._t[np.ix_(j, j)]
+        pos = 0
         for g in groups:
-            out[3 * g:3 * g + 3, 3 * g:3 * g + 3] = self._fgg[g]
-        return out
+            u = np.flatnonzero(self._use[g])
+            f[pos:pos + len(u), pos:pos + len(u)] += self._fgg[g][np.ix_(u, u)]
+            pos += len(u)
+        return j, f
 
     def _rebuild(self) -> None:
         u, f = self.coarse_matrix()
@@ -274,15 +252,9 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
                 finv -= np.matmul(w.T, w, out=self._buf)
                 finv[jo, :] = 0.0
                 finv[:, jo] = 0.0
-            jn = np.concatenate([3 * g + np.flatnonzero(self._use[g]) for g in move])
+            jn, g_new = self._unknowns_block(move)
             if len(jn):
                 b = self._t[:, jn]
-                g_new = self._t[np.ix_(jn, jn)]
-                pos = 0
-                for g in move:
-                    u = np.flatnonzero(self._use[g])
-                    g_new[pos:pos + len(u), pos:pos + len(u)] += self._fgg[g][np.ix_(u, u)]
-                    pos += len(u)
                 u = finv @ b
                 s = g_new - b.T @ u
                 s = 0.5 * (s + s.T)
