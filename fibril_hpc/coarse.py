@@ -80,6 +80,18 @@ class CoarseLevel:
     def _restored(self) -> None:
         """Recompute what derives from the restored arrays (nothing here)."""
 
+    def _install_inverse(self, idx, f) -> None:
+        """A dense rebuild: F^-1 = inv(f) (symmetrised) on the unknowns ``idx``, zero elsewhere."""
+        self._finv[:] = 0.0
+        if len(idx):
+            inv = np.linalg.inv(f)
+            inv += inv.T
+            inv *= 0.5
+            self._finv[np.ix_(idx, idx)] = inv
+        self._since_rebuild = 0
+        self._valid = True
+        self.factorisations += 1
+
     @property
     def one_level(self):
         """The preconditioner without its coarse level (the local cascade's trust test)."""
@@ -175,17 +187,7 @@ class TwoLevelPreconditioner(CoarseLevel):
         return g, F
 
     def _rebuild(self, W) -> None:
-        g, F = self.coarse_matrix(W)
-        self._finv[:] = 0.0
-        if len(g):
-            inv = np.linalg.inv(F)
-            del F
-            inv += inv.T
-            inv *= 0.5
-            self._finv[np.ix_(g, g)] = inv
-        self._since_rebuild = 0
-        self._valid = True
-        self.factorisations += 1
+        self._install_inverse(*self.coarse_matrix(W))
 
     def _follow(self, changed, W) -> bool:
         """Update F^-1 for the pillars in ``changed`` (old W: ``self._W``, new: ``W``) one at a

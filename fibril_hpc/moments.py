@@ -195,16 +195,7 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         return j, f
 
     def _rebuild(self) -> None:
-        u, f = self.coarse_matrix()
-        self._finv[:] = 0.0
-        if len(u):
-            inv = np.linalg.inv(f)
-            inv += inv.T
-            inv *= 0.5
-            self._finv[np.ix_(u, u)] = inv
-        self._since_rebuild = 0
-        self._valid = True
-        self.factorisations += 1
+        self._install_inverse(*self.coarse_matrix())
 
     def _follow(self, changed, old_use, old_fgg) -> bool:
         """Update F^-1 for the pillars in ``changed``; False (then rebuilt) at a pivot that is
