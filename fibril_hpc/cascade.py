@@ -128,14 +128,17 @@ class LocalCascade:
         global update rule on them. The proposal is *trusted* only if the coupling the held far
         field would add cannot change any decision: the change of u everywhere caused by the
         local pressure change since the last global solve is summed directly, the far pillars'
-        response to it estimated by one block-Jacobi step (``precond``: the CG preconditioner,
-        exact per pillar), and that response's feedback on the local pillars by another; every
+        response to it estimated by one application of the estimator that the CG preconditioner
+        ``precond`` names (``precond.trust_estimate``: block Jacobi, exact per pillar, or the
+        moment level's whole preconditioner, which also couples the far pillars' forces and
+        tilts), and that response's feedback on the local pillars by their exact blocks; every
         element's distance to its threshold (``p = -sigma_c - tol_p`` attached, ``g = -tol_g``
-        free) must exceed ``SAFETY`` times its estimated change. A trusted proposal is applied
-        and the next pass runs; an untrusted one is dropped (its pressures are kept as the next
-        global solve's start) and the caller's global solve decides, as in the reference
-        cascade. ``p`` and ``att`` of the local elements are written; ``u`` (= K p_ref) and
-        ``g`` (the far elements' gaps) are only read.
+        free) must exceed the estimator's safety factor times its estimated change (the factors
+        come from measured ratios of true changes to estimated ones, benchmarks/NOTES.md). A
+        trusted proposal is applied and the next pass runs; an untrusted one is dropped (its
+        pressures are kept as the next global solve's start) and the caller's global solve
+        decides, as in the reference cascade. ``p`` and ``att`` of the local elements are
+        written; ``u`` (= K p_ref) and ``g`` (the far elements' gaps) are only read.
 
         Returns (passes applied, reached a local fixed point) or None when the groups are too
         large for a dense solve.
@@ -190,9 +193,6 @@ class LocalCascade:
         p[idx] = p_l
         att[idx] = att_l
         return applied, fixed
-
-    #: a decision is trusted when its margin exceeds this multiple of its estimated change
-    SAFETY = 4.0
 
     #: pillars whose centre lies within this many pillar radii of a local pillar's centre get the
     #: exact direct sums in the trust test; farther ones the point-force (monopole) field
@@ -252,13 +252,13 @@ class LocalCascade:
         r = np.zeros(n)
         r[far_att] = -du[far_att]
         dp_far = np.zeros(n)
-        precond.update(att)
-        precond.apply(r, att, dp_far)
+        estimator, S = precond.trust_estimate
+        estimator.update(att)
+        estimator.apply(r, att, dp_far)
         dp_far[idx] = 0.0
         fsum = np.zeros(ng)
         kern.group_sums(dp_far, att, self.starts, fsum)
         dg_far = du[far_free] + (fsum * self.h2 * self.inv_k)[lab[far_free]]
-        S = self.SAFETY
         if np.any(np.abs(m_far_att) <= S * np.abs(dp_far[far_att])) or \
                 np.any(np.abs(m_far_free) <= S * np.abs(dg_far)):
             return False

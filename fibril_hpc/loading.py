@@ -83,6 +83,7 @@ class PathDriver:
         self.merge = {-1.0: opts.event_merge * d_c, +1.0: opts.load_event_merge * d_c}
         self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
         self.tol_g = 1e3 * opts.cg_tol * d_c
+        self.tol_dir = opts.direction_tolerance
         self.worst_only = opts.detach_policy == "worst"
         self.local = LocalCascade(model) if opts.cascade == "local" else None
         self.deadline = (math.inf if opts.max_wall_s is None
@@ -140,8 +141,7 @@ class PathDriver:
                 if len(groups):
                     out = self.local.cascade(groups, self.d, self._b, self.p, self.p_ref, self.u,
                                              self.g, self.att, m.sigma_c, self.tol_p, self.tol_g,
-                                             self.worst_only,
-                                             m.solver.precond.one_level)
+                                             self.worst_only, m.solver.precond)
                     if out is not None and out[0]:
                         # the set changed: a local fixed point is confirmed at full tolerance
                         # at once; an untrusted proposal is an intermediate (loose) pass
@@ -182,7 +182,8 @@ class PathDriver:
         return its
 
     def solve_direction(self):
-        """p1 = A^-1 1_S, u1 = K p1, f1, g1 on the current set."""
+        """p1 = A^-1 1_S, u1 = K p1, f1, g1 on the current set, to ``solver.direction_tol``
+        (the state itself is relaxed to ``cg_tol`` at every event)."""
         self.p1[self.att == 0] = 0.0
         if self.att.any():
             if self.local is not None:
@@ -191,7 +192,7 @@ class PathDriver:
                 groups = self._changed_groups(self.p1, self.p1_ref, self.att1_ref)
                 if len(groups):
                     self.local.solve(groups, self._ones, self.p1, self.p1_ref, self.u1, self.att)
-            self._solve(self._ones, self.p1, self.u1, self.p1_ref)
+            self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir)
         else:
             self.u1[:] = 0.0
             self.p1_ref[:] = 0.0

@@ -25,6 +25,9 @@ DEFAULT_N_SIDE = 18
 #: Detachment criteria (``SolverOptions.criterion``; :mod:`fibril_hpc.criterion`).
 CRITERIA = ("mesh", "footprint")
 
+#: The direction solve's tolerance over ``cg_tol`` when ``solver.direction_tol`` is not given.
+DIRECTION_SLACK = 100.0
+
 #: Largest filling ratio a square lattice of discs can hold (touching discs).
 PHI_MAX = math.pi / 4
 
@@ -121,6 +124,15 @@ class SolverOptions:
         one factor per pillar footprint and mesh, chosen so that one isolated rigid flat pillar of
         that footprint pulls off at exactly Kendall's force; :mod:`fibril_hpc.criterion`). Flat
         tips only. Stored in the scene text, and part of job keys, only off its default.
+    direction_tol : float or None
+        Relative CG tolerance of the direction solve p1 = A^-1 1_S on each new contact set
+        (docs/model.md §6). ``None`` (default): ``DIRECTION_SLACK`` (100) times ``cg_tol``, at
+        most 1e-2. The state at every event is solved at ``cg_tol``; the direction only carries it
+        to the next event, so its error moves the located events and the forces recorded just
+        before them by about ``direction_tol`` times the step, never the relaxed states
+        (measured on the default scene: F~_A within 2e-9 of the ``cg_tol`` direction, 1.2-1.3x
+        fewer FFT pairs; benchmarks/NOTES.md). Range (0, 1e-2]. Stored in the scene text, and
+        part of job keys, only off its default.
     """
 
     cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
@@ -140,6 +152,10 @@ class SolverOptions:
                             "planner")
     cascade: str = _opt("local", "backend", Choice(("local", "global")))
     criterion: str = _opt("mesh", "accuracy", Choice(CRITERIA), extra=True)
+    direction_tol: float | None = _opt(None, "accuracy",
+                                       Real(0, 1e-2, lo_open=True,
+                                            none=f"null ({DIRECTION_SLACK:g} x cg_tol)"),
+                                       extra=True)
 
     def __post_init__(self):
         check_fields(self, "solver.")
@@ -160,6 +176,14 @@ class SolverOptions:
         return {f.metadata["operator_arg"]: (self.threads if f.name == "fft_threads"
                                              else getattr(self, f.name))
                 for f in dataclasses.fields(self) if "operator_arg" in f.metadata}
+
+    @property
+    def direction_tolerance(self) -> float:
+        """Resolved tolerance of the direction solve: ``direction_tol``, else
+        ``DIRECTION_SLACK * cg_tol`` capped at 1e-2 (see the attribute's docs)."""
+        if self.direction_tol is not None:
+            return self.direction_tol
+        return min(1e-2, DIRECTION_SLACK * self.cg_tol)
 
     @property
     def threads(self) -> int:
