@@ -82,15 +82,20 @@ class CoarseLevel:
 
     def _install_inverse(self, idx, f) -> None:
         """A dense rebuild: F^-1 = inv(f) (symmetrised) on the unknowns ``idx``, zero elsewhere."""
-        self._finv[:] = 0.0
+        inv = np.zeros((0, 0))
         if len(idx):
             inv = np.linalg.inv(f)
             inv += inv.T
             inv *= 0.5
-            self._finv[np.ix_(idx, idx)] = inv
+        self._store_inverse(idx, inv)
         self._since_rebuild = 0
         self._valid = True
         self.factorisations += 1
+
+    def _store_inverse(self, idx, inv) -> None:
+        """Keep ``inv`` as F^-1 on the unknowns ``idx`` (zero elsewhere)."""
+        self._finv[:] = 0.0
+        self._finv[np.ix_(idx, idx)] = inv
 
     @property
     def one_level(self):

@@ -86,7 +86,7 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
     PIVOT_TOL = 1e-8
     TILT_TOL = 1e-6
 
-    _STATE = ("_att", "_zh", "_d", "_fgg", "_use", "_finv")
+    _STATE = ("_att", "_zh", "_d", "_fgg", "_use", "_fc", "_unk", "_pos", "_nu")
 
     def __init__(self, geometry, alpha):
         super().__init__(geometry, alpha)
@@ -103,8 +103,14 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         self._d = np.zeros((ng, 3, 3))            # D_g on the used modes (zero elsewhere)
         self._fgg = np.zeros((ng, 3, 3))          # F_gg = D_g^-1 on the used modes
         self._use = np.zeros((ng, 3), dtype=bool)  # unknowns in use
-        self._finv = np.zeros((3 * ng, 3 * ng))
-        self._buf = np.empty((3 * ng, 3 * ng))    # work space of the low-rank updates
+        # F^-1 on the unknowns in use only, kept compact: _fc[:n, :n] with n = _nu[0], position
+        # i holding unknown _unk[i] (_pos: the position of an unknown, -1 if not in use), so its
+        # products and updates cost (3 n_contact)^2, not (3 n_pillars)^2
+        self._fc = np.zeros((3 * ng, 3 * ng))
+        self._unk = np.zeros(3 * ng, dtype=np.int64)
+        self._pos = np.full(3 * ng, -1, dtype=np.int64)
+        self._nu = np.zeros(1, dtype=np.int64)
+        self._buf = np.empty(9 * ng * ng)         # work space of the low-rank updates
         self.pillar_updates = 0
 
     @property
@@ -206,12 +212,53 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
     def _rebuild(self) -> None:
         self._install_inverse(*self.coarse_matrix())
 
+    def _store_inverse(self, idx, inv) -> None:
+        n = len(idx)
+        self._pos[:] = -1
+        self._unk[:n] = idx
+        self._pos[idx] = np.arange(n)
+        self._nu[0] = n
+        self._fc[:n, :n] = inv
+
+    @property
+    def coarse_inverse(self) -> np.ndarray:
+        """F^-1 on all 3 n_pillars unknowns (zero rows and columns for those not in use), a
+        read-only copy of the compact matrix kept."""
+        n = int(self._nu[0])
+        out = np.zeros((3 * self.ng, 3 * self.ng))
+        u = self._unk[:n]
+        out[np.ix_(u, u)] = self._fc[:n, :n]
+        out.flags.writeable = False
+        return out
+
+    def _work(self, n: int) -> np.ndarray:
+        """An n x n contiguous view of the update work space."""
+        return self._buf[:n * n].reshape(n, n)
+
+    def _drop(self, pj) -> None:
+        """Remove the positions ``pj`` from the compact F^-1: the last positions in use move
+        into the holes (rows, then columns), so nothing else moves."""
+        n = int(self._nu[0])
+        k = len(pj)
+        holes = np.zeros(n, dtype=bool)
+        holes[pj] = True
+        movers = np.flatnonzero(~holes[n - k:]) + (n - k)
+        targets = np.flatnonzero(holes[:n - k])
+        fc = self._fc
+        self._pos[self._unk[pj]] = -1
+        if len(movers):
+            fc[targets, :n] = fc[movers, :n]
+            fc[:n, targets] = fc[:n, movers]
+            self._unk[targets] = self._unk[movers]
+            self._pos[self._unk[targets]] = targets
+        self._nu[0] = n - k
+
     def _follow(self, changed, old_use, old_fgg) -> bool:
         """Update F^-1 for the pillars in ``changed``; False (then rebuilt) at a pivot that is
         not safely positive."""
         if len(changed) == 0:
             return True
-        finv = self._finv
+        fc, pos = self._fc, self._pos
         same = np.all(old_use == self._use[changed], axis=1)
         # pillars keeping their unknowns whose F_gg changed: a Woodbury update
         moved = np.any((self._fgg[changed] != old_fgg).reshape(len(changed), 9), axis=1)
@@ -221,21 +268,23 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
                 if self._use[keep].any() else np.zeros(0, dtype=np.int64)
             if len(j):
                 delta = np.zeros((len(j), len(j)))
-                pos = 0
+                pos_ = 0
                 for k, g in zip(np.flatnonzero(same & moved), keep):
                     u = np.flatnonzero(self._use[g])
                     blk = self._fgg[g][np.ix_(u, u)] - old_fgg[k][np.ix_(u, u)]
-                    delta[pos:pos + len(u), pos:pos + len(u)] = blk
-                    pos += len(u)
-                v = finv[:, j]
-                mid = np.eye(len(j)) + v[j] @ delta
+                    delta[pos_:pos_ + len(u), pos_:pos_ + len(u)] = blk
+                    pos_ += len(u)
+                n = int(self._nu[0])
+                pj = pos[j]
+                v = fc[:n, pj]
+                mid = np.eye(len(j)) + v[pj] @ delta
                 try:
                     x = delta @ np.linalg.inv(mid)
                 except np.linalg.LinAlgError:
                     return False
                 x = 0.5 * (x + x.T)
-                finv -= np.matmul(v @ x, v.T, out=self._buf)
-                if not np.all(np.diag(finv)[j] > 0.0):
+                fc[:n, :n] -= np.matmul(v @ x, v.T, out=self._work(n))
+                if not np.all(fc[pj, pj] > 0.0):
                     return False
         # pillars whose unknowns change: drop their old unknowns, border the new ones
         move = changed[~same]
@@ -243,19 +292,22 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
             jo = np.concatenate([3 * g + np.flatnonzero(ou) for g, ou in
                                  zip(move, old_use[~same])])
             if len(jo):
-                v = finv[:, jo]
+                n = int(self._nu[0])
+                pjo = pos[jo]
+                v = fc[:n, pjo]
                 try:
-                    vjj = np.linalg.cholesky(v[jo])
+                    vjj = np.linalg.cholesky(v[pjo])
                 except np.linalg.LinAlgError:
                     return False
                 w = np.linalg.solve(vjj, v.T)            # L^-1 V^T
-                finv -= np.matmul(w.T, w, out=self._buf)
-                finv[jo, :] = 0.0
-                finv[:, jo] = 0.0
+                fc[:n, :n] -= np.matmul(w.T, w, out=self._work(n))
+                self._drop(pjo)
             jn, g_new = self._unknowns_block(move)
             if len(jn):
-                b = self._t[:, jn]
-                u = finv @ b
+                n = int(self._nu[0])
+                k = len(jn)
+                b = self._t[np.ix_(self._unk[:n], jn)]
+                u = fc[:n, :n] @ b
                 s = g_new - b.T @ u
                 s = 0.5 * (s + s.T)
                 try:
@@ -267,10 +319,13 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
                 sinv = np.linalg.inv(s)
                 sinv = 0.5 * (sinv + sinv.T)
                 us = u @ sinv
-                finv += np.matmul(us, u.T, out=self._buf)
-                finv[:, jn] = -us
-                finv[jn, :] = -us.T
-                finv[np.ix_(jn, jn)] = sinv
+                fc[:n, :n] += np.matmul(us, u.T, out=self._work(n))
+                fc[:n, n:n + k] = -us
+                fc[n:n + k, :n] = -us.T
+                fc[n:n + k, n:n + k] = sinv
+                self._unk[n:n + k] = jn
+                pos[jn] = np.arange(n, n + k)
+                self._nu[0] = n + k
         done = np.concatenate([keep, move])
         self._since_rebuild += len(done)
         self.pillar_updates += len(done)
@@ -281,6 +336,10 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         self.block_jacobi.apply(r, att, z)
         ng, m = self.ng, self.m
         c = np.einsum("gia,gi->ga", self._zh, r.reshape(ng, m))          # Zh^T r
-        y = (self._finv @ c.ravel()).reshape(ng, 3) - np.einsum("gab,gb->ga", self._d, c)
+        y = -np.einsum("gab,gb->ga", self._d, c)
+        n = int(self._nu[0])
+        if n:
+            u = self._unk[:n]
+            y.reshape(-1)[u] += self._fc[:n, :n] @ c.reshape(-1)[u]
         z.reshape(ng, m)[:] += np.einsum("gia,ga->gi", self._zh, y)
         return float(r @ z)
