@@ -2,6 +2,8 @@
 
     python benchmarks/paper_cost.py                         # default sample (6 loading paths)
     python benchmarks/paper_cost.py --k 10,0.1,0.001 --sigma 0.07,0.384,2.1 --json cost.json
+    python benchmarks/paper_cost.py --solver cascade=global,preconditioner=block,direction_tol=1e-8
+                                   # the same paths on the reference path of the start of issue 8
 
 Each sampled (k~, sigma~, seed) runs exactly as in the campaign: one ``simulate`` call with all
 the grid's preloads (with ``F_P: auto``, every round the campaign would run),
@@ -68,6 +70,8 @@ def main(argv=None) -> int:
     p.add_argument("--preset", default=None,
                    help="run the sample at this accuracy preset (fast, default, accurate) "
                         "instead of the grid's")
+    p.add_argument("--solver", default="",
+                   help="solver options to override, KEY=VALUE,... (e.g. cascade=global)")
     p.add_argument("--json", help="write the measurements here")
     args = p.parse_args(argv)
 
@@ -88,8 +92,13 @@ def main(argv=None) -> int:
             preset=args.preset,
             elements_per_diameter=preset_values(args.preset)["elements_per_diameter"],
             solver=SolverOptions.from_preset(args.preset))
+    import yaml
+
+    over = dict(kv.split("=", 1) for kv in args.solver.split(",") if kv.strip())
+    over = {k.strip(): yaml.safe_load(v) for k, v in over.items()}
     spec.base = spec.base.replace(solver=spec.base.solver.replace(fft_threads=1,
-                                                                  max_wall_s=args.max_wall))
+                                                                  max_wall_s=args.max_wall,
+                                                                  **over))
     ks, ss = _floats(args.k), _floats(args.sigma)
     for v, allv, name in ((ks, spec.k_tilde, "k"), (ss, spec.sigma_tilde, "sigma")):
         bad = [x for x in v if x not in allv]
@@ -138,6 +147,7 @@ def main(argv=None) -> int:
     dry_run = sum(x["model_cpu_s"] for x in samples) / len(samples)
     per_pillar = [x["fft_pairs"] / (spec.base.n_side ** 2 * math.sqrt(epp)) for x in samples]
     out = {"grid": os.path.abspath(args.grid), "preset": spec.base.preset, "jobs": len(spec.jobs),
+           "solver": args.solver,
            "paths": n_paths, "samples": samples, "ms_per_fft_pair": pair_s * 1e3,
            "core_hours": total / 3600, "lower_bound": capped,
            "mean_path_cpu_s": sum(x["cpu_s"] for x in samples) / len(samples),

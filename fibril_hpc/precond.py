@@ -237,11 +237,13 @@ class BlockPreconditioner:
 
 #: ``auto`` picks the moment coarse level over the force one where an FFT pair (~ M^2 log2 M for
 #: an M x M transform) costs at least this many times the moment level's dense work per CG
-#: iteration and per set change (~ (3 n_pillars)^2). Measured (benchmarks/NOTES.md, "Moment
-#: coarse level"; CPU of the force level over the moment level): 0.71x at a ratio of 2.2 (the
-#: `fast` 18 x 18 scene), 0.95x at 4 (the default scene), 0.96-1.03x at 8-17 (12 x 12 and 8 x 8
-#: brushes), 1.20x at 18 (`accurate` on 18 x 18); 1.17-1.52x fewer FFT pairs everywhere
-MOMENTS_RATIO = 6.0
+#: iteration and per set change (~ (3 n_pillars)^2, an upper bound: F^-1 is kept on the pillars
+#: in contact only). Measured with the compact F^-1 and the moment trust estimate
+#: (benchmarks/NOTES.md, "Moment coarse level" and "Compact F^-1"; CPU of the force level over the
+#: moment level): 0.79x at a ratio of 2.2 (the `fast` 18 x 18 scene), 1.02x at 4 (the default
+#: scene, 1.56x fewer FFT pairs), 0.96-1.03x at 8-17 (12 x 12 and 8 x 8 brushes, before), 1.20x
+#: at 18 (`accurate` on 18 x 18, before); 1.17-1.56x fewer FFT pairs everywhere
+MOMENTS_RATIO = 3.0
 
 
 def prefers_moments(fft_size: int, n_pillars: int) -> bool:

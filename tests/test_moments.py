@@ -106,10 +106,11 @@ def test_auto_picks_moments_where_the_fft_is_dear():
     from fibril_hpc.grid import build_pillar_grid
     from fibril_hpc.precond import make_preconditioner, prefers_moments
 
-    # the default 18 x 18 scene (FFT 640) keeps the force level; its accurate preset (1280),
-    # a 12 x 12 (420) and an 8 x 8 (280) brush at 8 elements per diameter take the moments
-    assert not prefers_moments(640, 324)
-    assert prefers_moments(1280, 324) and prefers_moments(420, 144) and prefers_moments(280, 64)
+    # the fast 18 x 18 scene (FFT 480) keeps the force level; the default one (640), its
+    # accurate preset (1280), a 12 x 12 (420) and an 8 x 8 (280) brush take the moments
+    assert not prefers_moments(480, 324)
+    assert prefers_moments(640, 324) and prefers_moments(1280, 324)
+    assert prefers_moments(420, 144) and prefers_moments(280, 64)
     geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
     assert type(make_preconditioner(geom, 0.1, 1.0, "auto", fft_size=64)) is \
         MomentTwoLevelPreconditioner
