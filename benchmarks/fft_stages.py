@@ -1,6 +1,6 @@
 """Time each stage of fibril's row-pruned FFT pair (one thread, CPU time) next to the floor pair.
 
-    python -m benchmarks.fft_stages 15 17 29 35    # pitches of an 18 x 18 brush: m = 540 625 1050 1260
+    python -m benchmarks.fft_stages 15 17 29 35    # pitches of an 18 x 18 brush
 
 Used in benchmarks/NOTES.md (optimisation 2). Nothing here asserts a timing.
 """

@@ -109,11 +109,16 @@ def test_memory_arrays_counts_what_the_solve_holds():
     drv = PathDriver(model)
     drv.solve_at(1.0 * model.scaling.d_c)
     a = memory.memory_arrays(model, drv)
-    m, r = model.operator.m, len(model.operator.pair.rows)
+    from fibril_hpc.fft import COLUMN_BLOCK as B
+
+    pair = model.operator.pair
+    m, r = model.operator.m, len(pair.rows)
     w = m // 2 + 1
-    # three complex m x w buffers, plus the real kernel copy once a product has run
-    copy = 0 if model.operator.pair.work_arrays().get("_kernel_ri") is None else 16 * m * w
-    assert a["fft_buffers"]["bytes"] == 2 * 8 * r * m + 2 * 16 * r * w + 3 * 16 * m * w + copy
+    wp = -(-w // B) * B             # the row spectra padded to whole column blocks
+    # real rows in and out, two complex row-spectrum buffers, three m x B column blocks, plus
+    # the blocked real kernel copy once a product has run
+    copy = 0 if pair.work_arrays().get("_kernel_blocks") is None else 16 * m * wp
+    assert a["fft_buffers"]["bytes"] == 2 * 8 * r * m + 2 * 16 * r * wp + 3 * 16 * m * B + copy
     assert a["kernel_transform"]["bytes"] == 8 * m * w
     vec = a["active_length_float_vectors"]
     assert vec["bytes"] == vec["count"] * 8 * model.geometry.n_active and vec["count"] >= 13
