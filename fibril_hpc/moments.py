@@ -151,7 +151,7 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         on = (att != 0).reshape(ng, m)[groups].astype(np.float64)
         cmat = np.stack((on, on * self._xr[groups], on * self._yr[groups]), axis=2)
         z = self.block_jacobi.apply_groups(groups, cmat)
-        d = np.einsum("gia,gib->gab", cmat, z)
+        d = np.matmul(np.swapaxes(cmat, 1, 2), z)
         d = 0.5 * (d + np.swapaxes(d, 1, 2))
         use = np.zeros((len(groups), 3), dtype=bool)
         use[:, 0] = d[:, 0, 0] > 0.0
@@ -335,11 +335,12 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         """z <- (two-level preconditioner) r on the attached set; returns r.z."""
         self.block_jacobi.apply(r, att, z)
         ng, m = self.ng, self.m
-        c = np.einsum("gia,gi->ga", self._zh, r.reshape(ng, m))          # Zh^T r
+        # batched products (matmul over the pillars: several times faster than einsum here)
+        c = np.matmul(r.reshape(ng, 1, m), self._zh)[:, 0]                # Zh^T r
         y = -np.einsum("gab,gb->ga", self._d, c)
         n = int(self._nu[0])
         if n:
             u = self._unk[:n]
             y.reshape(-1)[u] += self._fc[:n, :n] @ c.reshape(-1)[u]
-        z.reshape(ng, m)[:] += np.einsum("gia,ga->gi", self._zh, y)
+        z.reshape(ng, m)[:] += np.matmul(self._zh, y[:, :, None])[:, :, 0]
         return float(r @ z)

@@ -113,8 +113,8 @@ class BlockPreconditioner:
         self._att = np.zeros(geometry.n_active, dtype=np.uint8)
         self._counts = np.zeros(self.ng, dtype=np.int64)
         self._full = np.zeros(self.ng, dtype=bool)
+        self._n_full = 0
         self._partial: dict = {}          # group -> (local indices, inverse)
-        self._zg = np.zeros((self.ng, m))
         self.updates = 0
 
     @property
@@ -173,6 +173,7 @@ class BlockPreconditioner:
         a2 = self._att.reshape(self.ng, m)
         counts = a2.sum(axis=1)
         self._full = counts == m
+        self._n_full = int(np.count_nonzero(self._full))
         for g in changed:
             self._partial.pop(int(g), None)
             if 0 < counts[g] < m:
@@ -183,9 +184,11 @@ class BlockPreconditioner:
         m = self.m
         r2 = r.reshape(self.ng, m)
         z2 = z.reshape(self.ng, m)
-        np.matmul(r2, self.full_inv, out=self._zg)      # the block is symmetric
         z2[:] = 0.0
-        z2[self._full] = self._zg[self._full]
+        if self._n_full == self.ng:
+            np.matmul(r2, self.full_inv, out=z2)        # the block is symmetric
+        elif self._n_full:
+            z2[self._full] = r2[self._full] @ self.full_inv
         for g, (idx, inv) in self._partial.items():
             z2[g, idx] = inv @ r2[g, idx]
         if self.alpha_g is not None:
