@@ -209,15 +209,16 @@ class LocalCascade:
             self._cen = (cy, cx, rmax)
         return self._cen
 
-    def _monopole(self, ty, tx, cy, cx, forces):
-        """Point-force field sum_b forces[b] h^2 / (pi E* r) at targets (element units)."""
+    def _monopole(self, tgt, cy, cx, forces):
+        """Point-force field sum_b forces[b] h^2 / (pi E* r) at the elements ``tgt`` (centres
+        (cy, cx) in element units)."""
         from .scaling import E_STAR
 
-        if len(forces) == 0 or len(ty) == 0:
-            return np.zeros(len(ty))
-        r = np.hypot(ty[:, None] - cy[None, :], tx[:, None] - cx[None, :])
-        h = self.model.geometry.h
-        return (forces[None, :] / np.maximum(r, 0.5)).sum(axis=1) * (h / (np.pi * E_STAR))
+        out = np.zeros(len(tgt))
+        if len(forces) and len(tgt):
+            kern.point_forces_at(out, tgt, self.iy, self.ix, cy, cx, forces)
+            out *= self.model.geometry.h / (np.pi * E_STAR)
+        return out
 
     def _trusted(self, groups, idx, lstarts, K, C, inv_k_l, att_l, p_l, g_l, p_ref, att, far_att,
                  far_free, m_far_att, m_far_free, thr, tol_g, precond, table) -> bool:
@@ -246,8 +247,7 @@ class LocalCascade:
         if len(far_el):
             lg = np.repeat(np.arange(len(groups)), np.diff(lstarts))
             dF = np.bincount(lg, weights=dp, minlength=len(groups))
-            du[far_el] = self._monopole(iy[far_el].astype(float), ix[far_el].astype(float),
-                                        cy[groups], cx[groups], dF)
+            du[far_el] = self._monopole(far_el, cy[groups], cx[groups], dF)
         # far pillars' first-order response (their exact blocks, the rest held)
         r = np.zeros(n)
         r[far_att] = -du[far_att]
@@ -269,7 +269,7 @@ class LocalCascade:
             kern.point_loads_at(du_l, idx, iy, ix, srcn, dp_far[srcn], table)
         fg = np.flatnonzero(far_g)
         if len(fg):
-            du_l += self._monopole(iy[idx].astype(float), ix[idx].astype(float), cy[fg], cx[fg],
+            du_l += self._monopole(idx, cy[fg], cx[fg],
                                    np.bincount(lab, weights=dp_far, minlength=ng)[fg])
         on = att_l != 0
         dpl = np.zeros(len(idx))

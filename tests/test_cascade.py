@@ -145,3 +145,13 @@ def test_point_loads_at_matches_reference_kernel():
     full = np.zeros(n)
     C.point_loads(full, iy, ix, idx, vals, table)      # the all-targets kernel agrees
     np.testing.assert_allclose(a - a0, full[tgt], rtol=1e-12, atol=1e-14)
+    # the point-force (1/r) field of the trust test's far pillars, centres off the grid
+    cy, cx = rng.random(4) * 7, rng.random(4) * 7
+    cy[0], cx[0] = iy[tgt[0]], ix[tgt[0]]               # one on a target: r clipped at 0.5
+    f = rng.standard_normal(4)
+    a, b = a0.copy(), a0.copy()
+    C.point_forces_at(a, tgt, iy, ix, cy, cx, f)
+    R.point_forces_at(b, tgt, iy, ix, cy, cx, f)
+    np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-14)
+    r = np.hypot(iy[tgt][:, None] - cy, ix[tgt][:, None] - cx)
+    np.testing.assert_allclose(a - a0, (f / np.maximum(r, 0.5)).sum(axis=1), rtol=1e-13)

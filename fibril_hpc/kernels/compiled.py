@@ -298,3 +298,22 @@ def point_loads_at(out, tgt, iy, ix, idx, vals, table):
                 dx = -dx
             s += vals[k] * table[dy, dx]
         out[t] += s
+
+
+@jit
+def point_forces_at(out, tgt, iy, ix, cy, cx, forces):
+    """out[t] += sum_b forces[b] / max(r_tb, 0.5), r_tb the distance (in elements) from element
+    tgt[t] to the point (cy[b], cx[b]): the 1/r point-force field, without its constant."""
+    for t in range(len(tgt)):
+        j = tgt[t]
+        yj = iy[j]
+        xj = ix[j]
+        s = 0.0
+        for b in range(len(forces)):
+            dy = yj - cy[b]
+            dx = xj - cx[b]
+            r = np.sqrt(dy * dy + dx * dx)
+            if r < 0.5:
+                r = 0.5
+            s += forces[b] / r
+        out[t] += s

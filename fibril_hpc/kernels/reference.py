@@ -132,3 +132,8 @@ def point_loads_at(out, tgt, iy, ix, idx, vals, table):
     """out[t] += sum_k vals[k] K(x_tgt[t] - x_idx[k]) for the target elements ``tgt`` only."""
     for t, j in enumerate(tgt):
         out[t] += np.dot(vals, table[np.abs(iy[idx] - iy[j]), np.abs(ix[idx] - ix[j])])
+
+
+def point_forces_at(out, tgt, iy, ix, cy, cx, forces):
+    r = np.hypot(iy[tgt][:, None] - cy[None, :], ix[tgt][:, None] - cx[None, :])
+    out += (forces[None, :] / np.maximum(r, 0.5)).sum(axis=1)
