@@ -5,8 +5,9 @@
     python benchmarks/work_per_curve.py --n-side 18 --k 1 --sigma 0.07 --F-P 6.5
     python benchmarks/work_per_curve.py --presets default --paths local local:two_level
 
-A path is ``CASCADE`` or ``CASCADE:PRECONDITIONER``; differences and ratios are taken against
-the first path given.
+A path is ``CASCADE``, ``CASCADE:PRECONDITIONER`` or ``CASCADE:PRECONDITIONER:DIRECTION_TOL``
+(``exact``: the direction solved to ``cg_tol``; ``global:block:exact`` is the reference path of
+the start of issue 8); differences and ratios are taken against the first path given.
 
 For each preset (fast / default / accurate) and each path (``cascade: global``, the reference
 with one global solve per cascade pass, and ``cascade: local``, the default) it runs the scene
@@ -51,11 +52,17 @@ def _git() -> dict:
 def run_one(scene_kw: dict, preset: str, cascade: str) -> dict:
     from fibril_hpc import Scene, simulate
 
-    # a path is "CASCADE" or "CASCADE:PRECONDITIONER" (e.g. local:two_level)
-    casc, _, pc = cascade.partition(":")
+    # a path is "CASCADE[:PRECONDITIONER[:DIRECTION_TOL]]" (e.g. local:two_level,
+    # global:block:exact; "exact" solves the direction to cg_tol, as before issue 8)
+    casc, pc, dt = (cascade.split(":") + ["", ""])[:3]
     solver = {"fft_threads": 1, "cascade": casc}
     if pc:
         solver["preconditioner"] = pc
+    if dt:
+        from fibril_hpc.presets import preset_values
+
+        solver["direction_tol"] = (preset_values(preset)["solver"]["cg_tol"] if dt == "exact"
+                                   else float(dt))
     scene = Scene(**scene_kw, preset=preset, solver=solver)
     load0 = os.getloadavg()[0]
     t0 = time.process_time()
