@@ -39,9 +39,10 @@ CASES = [
 ]
 
 
-def run_path(cascade, preconditioner="auto", **kw):
+def run_path(cascade, preconditioner="auto", direction_tol=None, **kw):
     r = simulate(Scene(**kw, solver={"fft_threads": 1, "cascade": cascade, "cg_tol": TOL,
-                                     "preconditioner": preconditioner}))
+                                     "preconditioner": preconditioner,
+                                     "direction_tol": direction_tol}))
     assert r.status == "ok", r.message
     return r
 
@@ -52,30 +53,43 @@ def let_go_order(let_go):
     return np.unique(np.round(v, 6), return_inverse=True)[1]
 
 
-def assert_same_path(ref, new):
+def assert_same_path(ref, new, rel=1e-9):
     """Two results of one scene pass through the same contact sets at every recorded point, let
-    every pillar go at the same d~ in the same order, and give the same F~_A, F~_P."""
+    every pillar go at the same d~ in the same order, and give the same F~_A, F~_P (to ``rel``;
+    the curves to 100 ``rel``)."""
     assert len(ref.results) == len(new.results)
     for a, b in zip(ref.results, new.results):
         for ca, cb in ((a.loading, b.loading), (a.unloading, b.unloading)):
             # the same contact set at every recorded point: same counts of elements and pillars
             np.testing.assert_array_equal(ca.contact_fraction, cb.contact_fraction)
             np.testing.assert_array_equal(ca.n_pillars_in_contact, cb.n_pillars_in_contact)
-            np.testing.assert_allclose(ca.d_tilde, cb.d_tilde, rtol=1e-8, atol=1e-10)
-            np.testing.assert_allclose(ca.F_tilde, cb.F_tilde, rtol=1e-7, atol=1e-9)
+            np.testing.assert_allclose(ca.d_tilde, cb.d_tilde, rtol=10 * rel, atol=0.1 * rel)
+            np.testing.assert_allclose(ca.F_tilde, cb.F_tilde, rtol=100 * rel, atol=rel)
         assert a.events == b.events
         np.testing.assert_array_equal(a.at_pulloff.contact_map, b.at_pulloff.contact_map)
         np.testing.assert_array_equal(np.isnan(a.let_go_d_tilde), np.isnan(b.let_go_d_tilde))
-        np.testing.assert_allclose(a.let_go_d_tilde, b.let_go_d_tilde, rtol=1e-8, atol=1e-10)
+        np.testing.assert_allclose(a.let_go_d_tilde, b.let_go_d_tilde, rtol=10 * rel,
+                                   atol=0.1 * rel)
         np.testing.assert_array_equal(let_go_order(a.let_go_d_tilde),
                                       let_go_order(b.let_go_d_tilde))
-        assert b.F_A == pytest.approx(a.F_A, rel=1e-9, abs=1e-12)
-        assert b.F_P == pytest.approx(a.F_P, rel=1e-9, abs=1e-12)
+        assert b.F_A == pytest.approx(a.F_A, rel=rel, abs=1e-3 * rel)
+        assert b.F_P == pytest.approx(a.F_P, rel=rel, abs=1e-3 * rel)
 
 
 @pytest.mark.parametrize("case", CASES, ids=lambda c: "-".join(f"{k}={v}" for k, v in c.items()))
 def test_local_cascade_matches_global_reference(case):
     assert_same_path(run_path("global", **case), run_path("local", **case))
+
+
+@pytest.mark.parametrize("case", CASES[1:7], ids=lambda c: "-".join(f"{k}={v}" for k, v in c.items()))
+def test_loose_direction_keeps_the_path(case):
+    """The direction solved to its default tolerance (100 x cg_tol) against one solved to cg_tol
+    (the path before issue 8): the same sets, events and let-go order; F~_A, F~_P as close as
+    the looser direction allows (it moves located events by ~direction_tol times the step)."""
+    exact = run_path("local", direction_tol=TOL, **case)
+    loose = run_path("local", **case)
+    assert loose.scene.solver.direction_tolerance == pytest.approx(100 * TOL)
+    assert_same_path(exact, loose, rel=1e-7)
 
 
 @pytest.mark.parametrize("lab", [{}, dict(k_law="lognormal", k_spread=0.5)],
