@@ -1,8 +1,9 @@
 """A rough cost estimate for ``--dry-run`` (no job runs).
 
-cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid) x ``OVERHEAD``.
-Seconds per pair are timed here on the campaign's own grid (about a second, CPU time); ``OVERHEAD``
-is the all-in CPU per pair of a whole path over the bare pair (CG, event search, local cascades).
+cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid) x
+``OVERHEAD[preset]``. Seconds per pair are timed here on the campaign's own grid (about a second,
+CPU time); ``OVERHEAD`` is the all-in CPU per pair of a whole path over the bare pair (CG, event
+search, local cascades, the coarse level).
 Pairs per task are modelled per pillar per sqrt(element per pillar) as
 
     PRESET_FACTOR[preset] x (PAIRS_LOADING + PAIRS_UNLOADING x sum_i min(1, F~_P,i / F_FULL)^(1/3))
@@ -13,11 +14,12 @@ a ``d_tilde`` preload counts as a full one). Fitted to measured paths of this so
 cascades, one thread, benchmarks/NOTES.md "Dry-run model"): at the `default` preset the default
 18 x 18 scene (one preload, F~_P = 4) and the paper grid's corners with the fixed twelve-preload
 list (0.05 ... 6.5) and with ``F_P: auto`` (round 0: 0.001 ... 4); `fast` and `accurate` from the
-same paths' ratio. Those fits were made with block Jacobi alone; the coarse levels that ``auto``
-now adds (``two_level`` at `fast` and `default` on 18 x 18, ``moments`` at `accurate`) scale
-them by ``PRESET_FACTOR``, refitted on the paper grid's eight sampled ``F_P: auto`` paths at
-`default` (measured pairs 0.55x the block fit), its four corners at `fast` (0.64x of 0.4) and
-the default scene at `accurate` (8 170 pairs against 20 255). Expect up to ~2x either way on
+same paths' ratio. Those fits were made with block Jacobi alone; what ``auto`` now does
+(``two_level`` at `fast`, ``moments`` at `default` and `accurate` on 18 x 18, the direction
+solved to 100 x cg_tol, the moment trust test) scales them by ``PRESET_FACTOR``, refitted on
+the paper grid's eight sampled ``F_P: auto`` paths at `default` (measured pairs 0.57x the
+previous fit of 0.55: 0.31), its four corners at `fast` (0.82x of 0.25) and at `accurate`
+(benchmarks/NOTES.md, "Dry-run model, third fit"). Expect up to ~2x either way on
 single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones dearer), less
 on a whole grid. When the output file already
 holds finished jobs, their measured mean wall time per task is used instead.
@@ -38,10 +40,11 @@ PAIRS_UNLOADING = 1.6
 F_FULL = 4.0
 #: work of a preset relative to the block-Jacobi fit above, under the ``auto`` preconditioner
 #: (looser tolerances and coarser batching at `fast`; the coarse levels everywhere)
-PRESET_FACTOR = {"fast": 0.25, "default": 0.55, "accurate": 0.40}
-#: all-in CPU per FFT pair of a path over the bare timed pair (measured 1.8-2.6 on the paper
-#: grid's sampled paths, mean 2.03 at `default`, 2.06 at `fast`)
-OVERHEAD = 2.0
+PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
+#: all-in CPU per FFT pair of a path over the bare timed pair, per preset (the means measured on
+#: the paper grid's sampled paths: 3.0 at `fast`, 2.8 at `default` (2.0-3.7), 2.3 at `accurate`;
+#: the pair is cheap since its column stage runs in cache, so the rest weighs more)
+OVERHEAD = {"fast": 3.0, "default": 2.8, "accurate": 2.3}
 
 
 def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
@@ -79,4 +82,4 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
 
 def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
     """Modelled CPU seconds of one task (``scene`` with its preloads)."""
-    return task_pairs(scene, elements_per_pillar) * pair_s * OVERHEAD
+    return task_pairs(scene, elements_per_pillar) * pair_s * OVERHEAD.get(scene.preset, 2.8)
