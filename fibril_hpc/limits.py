@@ -6,8 +6,9 @@ operator is built or a job is enumerated.
 
 Memory model: one ``simulate`` call holds the FFT operator and its work arrays on the padded
 m x m grid plus per-element solver vectors; the peak resident memory measured on this machine
-grew by 59 and 56 bytes per m^2 (m = 2160: +275 MB, m = 3840: +829 MB, ``simulate`` of one
-preload; ``python benchmarks/scene_memory.py 40 12`` and ``60 14``).
+grew by 54 and 41 bytes per m^2 (m = 2160: +253 MB, m = 3840: +607 MB, ``simulate`` of one
+preload; ``python benchmarks/scene_memory.py 40 12`` and ``60 14``, 2026-11-23; 59 and 56 before
+the FFT pair's column stage ran in blocks and stopped holding three m x (m/2+1) spectra).
 The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
 :data:`BASE_BYTES`, plus the two-level preconditioner's coarse level where it is used
 (``solver.preconditioner`` ``auto``, ``two_level`` or ``moments`` on at most
@@ -26,7 +27,7 @@ from .errors import ConfigError
 MAX_GRID_SIDE = 8192
 #: most jobs of one campaign grid
 MAX_JOBS = 10_000_000
-#: peak bytes per element of the padded FFT grid (56-59 measured, see the module docstring)
+#: peak bytes per element of the padded FFT grid (41-54 measured, see the module docstring)
 BYTES_PER_FFT_ELEMENT = 72
 #: the interpreter, numba, FFTW and the libraries
 BASE_BYTES = 128 << 20
