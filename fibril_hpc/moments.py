@@ -31,10 +31,11 @@ modes projected out (positive semidefinite), so the preconditioner stays SPD for
 A pillar whose attached elements do not span the tilts (one or two elements, or one line of
 them: D_g ill conditioned) keeps the force unknown only.
 
-F^-1 (3 n_pillars square, zero rows and columns for unknowns out of use) follows each set change
-exactly by O(n^2) block updates: a change of the diagonal blocks of pillars that keep their
-unknowns is a Woodbury update, pillars whose unknowns change are dropped (Schur complement on the
-inverse) and bordered back. It is rebuilt with a dense inverse every ``REBUILD_EVERY`` pillar
+F^-1 is kept on the unknowns in use only (a compact (3 n_contact)^2 block of a (3 n_pillars)^2
+buffer, with the map between positions and unknowns; ``coarse_inverse`` expands it) and follows
+each set change exactly by O(n^2) block updates: a change of the diagonal blocks of pillars that
+keep their unknowns is a Woodbury update, pillars whose unknowns change are dropped (Schur
+complement on the inverse) and bordered back. It is rebuilt with a dense inverse every ``REBUILD_EVERY`` pillar
 updates, when one change moves many pillars, or when a pivot is not safely positive.
 """
 
@@ -213,6 +214,7 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         self._install_inverse(*self.coarse_matrix())
 
     def _store_inverse(self, idx, inv) -> None:
+        """Keep ``inv`` as the compact F^-1, position i holding unknown idx[i]."""
         n = len(idx)
         self._pos[:] = -1
         self._unk[:n] = idx
@@ -268,12 +270,12 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
                 if self._use[keep].any() else np.zeros(0, dtype=np.int64)
             if len(j):
                 delta = np.zeros((len(j), len(j)))
-                pos_ = 0
+                at = 0
                 for k, g in zip(np.flatnonzero(same & moved), keep):
                     u = np.flatnonzero(self._use[g])
                     blk = self._fgg[g][np.ix_(u, u)] - old_fgg[k][np.ix_(u, u)]
-                    delta[pos_:pos_ + len(u), pos_:pos_ + len(u)] = blk
-                    pos_ += len(u)
+                    delta[at:at + len(u), at:at + len(u)] = blk
+                    at += len(u)
                 n = int(self._nu[0])
                 pj = pos[j]
                 v = fc[:n, pj]
