@@ -108,7 +108,7 @@ class CoarseLevel:
         the safety of block Jacobi. The force level corrects each far pillar's mean but not the
         gradient of the field across it, which made it a *worse* estimate of single elements'
         changes (largest true/estimate ratio 4.5 against 3.4 for block Jacobi on the default
-        scene; benchmarks/NOTES.md, "Trust test")."""
+        scene; benchmarks/NOTES.md §20)."""
         return self.block_jacobi.trust_estimate
 
     def work_arrays(self) -> dict:

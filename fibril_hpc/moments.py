@@ -35,8 +35,9 @@ F^-1 is kept on the unknowns in use only (a compact (3 n_contact)^2 block of a (
 buffer, with the map between positions and unknowns; ``coarse_inverse`` expands it) and follows
 each set change exactly by O(n^2) block updates: a change of the diagonal blocks of pillars that
 keep their unknowns is a Woodbury update, pillars whose unknowns change are dropped (Schur
-complement on the inverse) and bordered back. It is rebuilt with a dense inverse every ``REBUILD_EVERY`` pillar
-updates, when one change moves many pillars, or when a pivot is not safely positive.
+complement on the inverse) and bordered back. It is rebuilt with a dense inverse every
+``REBUILD_EVERY`` pillar updates, when one change moves many pillars, or when a pivot is not
+safely positive.
 """
 
 from __future__ import annotations
@@ -120,7 +121,7 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         far pillars respond through their blocks *and* their coupled forces and tilts), with a
         safety factor of 2. Measured against true global solves, its largest true/estimate ratio
         was 1.37 on the default scene and 1.08 on a stiff smooth 8 x 8 path, against 3.4 for
-        block Jacobi alone (benchmarks/NOTES.md, "Trust test")."""
+        block Jacobi alone (benchmarks/NOTES.md §20)."""
         return self, 2.0
 
     def update_counts(self) -> dict:

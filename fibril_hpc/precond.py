@@ -127,7 +127,7 @@ class BlockPreconditioner:
         """(estimator, safety) of the local cascade's trust test: one block-Jacobi step (each
         far pillar's exact block, the others held) with a safety factor of 4; the largest ratio
         of a true change to this estimate measured on the default scene was 3.4
-        (benchmarks/NOTES.md, "Trust test")."""
+        (benchmarks/NOTES.md §20)."""
         return self, 4.0
 
     def work_arrays(self) -> dict:
@@ -242,7 +242,7 @@ class BlockPreconditioner:
 #: an M x M transform) costs at least this many times the moment level's dense work per CG
 #: iteration and per set change (~ (3 n_pillars)^2, an upper bound: F^-1 is kept on the pillars
 #: in contact only). Measured with the compact F^-1 and the moment trust estimate
-#: (benchmarks/NOTES.md, "Moment coarse level" and "Compact F^-1"; CPU of the force level over the
+#: (benchmarks/NOTES.md, "Moment coarse level" and §22; CPU of the force level over the
 #: moment level): 0.79x at a ratio of 2.2 (the `fast` 18 x 18 scene), 1.02x at 4 (the default
 #: scene, 1.56x fewer FFT pairs), 0.96-1.03x at 8-17 (12 x 12 and 8 x 8 brushes, before), 1.20x
 #: at 18 (`accurate` on 18 x 18, before); 1.17-1.56x fewer FFT pairs everywhere

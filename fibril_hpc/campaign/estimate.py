@@ -19,7 +19,7 @@ same paths' ratio. Those fits were made with block Jacobi alone; what ``auto`` n
 solved to 100 x cg_tol, the moment trust test) scales them by ``PRESET_FACTOR``, refitted on
 the paper grid's eight sampled ``F_P: auto`` paths at `default` (measured pairs 0.57x the
 previous fit of 0.55: 0.31), its four corners at `fast` (0.82x of 0.25) and at `accurate`
-(benchmarks/NOTES.md, "Dry-run model, third fit"). Expect up to ~2x either way on
+(benchmarks/NOTES.md §26). Expect up to ~2x either way on
 single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones dearer), less
 on a whole grid. When the output file already
 holds finished jobs, their measured mean wall time per task is used instead.
