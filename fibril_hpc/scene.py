@@ -131,8 +131,8 @@ class SolverOptions:
         most 1e-2. The state at every event is solved at ``cg_tol``; the direction only carries it
         to the next event, so its error moves the located events and the forces recorded just
         before them by about ``direction_tol`` times the step, never the relaxed states
-        (measured on the default scene: F~_A within 2e-9 of the ``cg_tol`` direction, 1.2-1.3x
-        fewer FFT pairs; benchmarks/NOTES.md). Range (0, 1e-2]. Stored in the scene text, and
+        (measured on the default scene: F~_A within 2e-9 of the ``cg_tol`` direction, 1.17-1.19x
+        fewer FFT pairs; benchmarks/NOTES.md §21). Range (0, 1e-2]. Stored in the scene text, and
         part of job keys, only off its default.
     """
 

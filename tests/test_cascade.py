@@ -133,6 +133,17 @@ def test_local_solve_is_exact_on_its_pillars(k_tilde, k_law):
     np.testing.assert_array_equal(x[rest], x_ref[rest])
 
 
+def test_direction_tol_is_validated_and_kept_out_of_default_texts():
+    from fibril_hpc.errors import ConfigError
+
+    for bad in (0, -1e-6, 0.5, float("nan"), "x"):
+        with pytest.raises(ConfigError, match="solver.direction_tol"):
+            Scene(solver={"direction_tol": bad})
+    assert "direction_tol" not in Scene().to_dict()["solver"]          # old texts and keys stand
+    assert Scene(solver={"direction_tol": 1e-9}).to_dict()["solver"]["direction_tol"] == 1e-9
+    assert Scene(preset="fast").solver.direction_tolerance == pytest.approx(1e-4)
+
+
 def test_cascade_option_is_validated():
     from fibril_hpc.errors import ConfigError
 
