@@ -23,6 +23,8 @@ import os
 import sys
 import time
 
+import yaml
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -92,13 +94,17 @@ def main(argv=None) -> int:
             preset=args.preset,
             elements_per_diameter=preset_values(args.preset)["elements_per_diameter"],
             solver=SolverOptions.from_preset(args.preset))
-    import yaml
+    from fibril_hpc.errors import ConfigError
 
-    over = dict(kv.split("=", 1) for kv in args.solver.split(",") if kv.strip())
-    over = {k.strip(): yaml.safe_load(v) for k, v in over.items()}
-    spec.base = spec.base.replace(solver=spec.base.solver.replace(fft_threads=1,
-                                                                  max_wall_s=args.max_wall,
-                                                                  **over))
+    try:
+        over = {k.strip(): yaml.safe_load(v) for k, v in
+                (kv.split("=", 1) for kv in args.solver.split(",") if kv.strip())}
+        spec.base = spec.base.replace(solver=spec.base.solver.replace(
+            fft_threads=1, max_wall_s=args.max_wall, **over))
+    except (ValueError, TypeError, ConfigError) as e:
+        print(f"paper_cost: --solver {args.solver!r}: KEY=VALUE,... of solver options ({e})",
+              file=sys.stderr)
+        return 2
     ks, ss = _floats(args.k), _floats(args.sigma)
     for v, allv, name in ((ks, spec.k_tilde, "k"), (ss, spec.sigma_tilde, "sigma")):
         bad = [x for x in v if x not in allv]

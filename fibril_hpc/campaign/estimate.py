@@ -82,4 +82,4 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
 
 def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
     """Modelled CPU seconds of one task (``scene`` with its preloads)."""
-    return task_pairs(scene, elements_per_pillar) * pair_s * OVERHEAD.get(scene.preset, 2.8)
+    return task_pairs(scene, elements_per_pillar) * pair_s * OVERHEAD.get(scene.preset, OVERHEAD["default"])
