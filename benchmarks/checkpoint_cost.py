@@ -18,7 +18,7 @@ import uuid
 import h5py
 import numpy as np
 
-from fibril_hpc.campaign import store
+from fibril_hpc.campaign.storage import store
 
 
 def rec(i, n=400):

@@ -10,6 +10,7 @@ import numpy as np
 
 from benchmarks.fibril_bench import timing
 from fibril_hpc.model import build_scene_model
+
 for pitch in [int(x) for x in sys.argv[1:]]:
     model = build_scene_model(timing.bench_scene(18, pitch))
     op = model.operator

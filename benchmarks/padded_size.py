@@ -38,8 +38,8 @@ def main(argv=None) -> int:
     p.add_argument("n", type=int, nargs="+")
     p.add_argument("--repeat", type=int, default=7)
     args = p.parse_args(argv)
-    from fibril_hpc.fft import FFTPair
-    from fibril_hpc.greens import _fft_cost, padded_size
+    from fibril_hpc.elastic.fft import FFTPair
+    from fibril_hpc.elastic.greens import _fft_cost, padded_size
 
     print(f"load average {os.getloadavg()[0]:.1f}")
     for n in args.n:

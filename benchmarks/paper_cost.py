@@ -41,7 +41,7 @@ def _run_path(spec, path, simulate, ops):
                                             t.jobs[0].seed) == path][0]
         r = simulate(task.scene, operators=ops)
         return r, r.stats, [j.preload for j in task.jobs]
-    from fibril_hpc.campaign.auto import path_todo
+    from fibril_hpc.campaign.plan.auto import path_todo
 
     results, run, total = {}, [], {"cg_iterations": 0, "fft_pairs": 0, "events": 0}
     r = None
@@ -79,13 +79,13 @@ def main(argv=None) -> int:
 
     from fibril_hpc import simulate
     from fibril_hpc.campaign import load_spec
-    from fibril_hpc.campaign.estimate import fft_pair_seconds, task_pairs, task_seconds
+    from fibril_hpc.campaign.plan.estimate import fft_pair_seconds, task_pairs, task_seconds
     from fibril_hpc.model import OperatorCache
 
     spec = load_spec(args.grid)
     if args.preset is not None:
-        from fibril_hpc.presets import PRESET_NAMES, preset_values
-        from fibril_hpc.scene import SolverOptions
+        from fibril_hpc.inputs.presets import PRESET_NAMES, preset_values
+        from fibril_hpc.inputs.scene import SolverOptions
 
         if args.preset not in PRESET_NAMES:
             print(f"paper_cost: --preset must be one of {PRESET_NAMES}", file=sys.stderr)

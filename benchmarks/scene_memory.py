@@ -1,6 +1,6 @@
 """Peak resident memory of one simulate call against the padded FFT side m.
 
-The memory model of ``fibril_hpc/limits.py`` comes from this. Usage:
+The memory model of ``fibril_hpc/inputs/limits.py`` comes from this. Usage:
 ``python benchmarks/scene_memory.py N_SIDE ELEMENTS_PER_DIAMETER`` (one preload, stopped after 3
 contact events: the operator and the solver's arrays are all allocated by then).
 """

@@ -59,7 +59,7 @@ def run_one(scene_kw: dict, preset: str, cascade: str) -> dict:
     if pc:
         solver["preconditioner"] = pc
     if dt:
-        from fibril_hpc.presets import preset_values
+        from fibril_hpc.inputs.presets import preset_values
 
         solver["direction_tol"] = (preset_values(preset)["solver"]["cg_tol"] if dt == "exact"
                                    else float(dt))

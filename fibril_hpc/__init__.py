@@ -7,14 +7,19 @@ Public API::
     result.main.F_A, result.main.unloading.F_tilde
     read_result_file("curve.h5")          # a file written by fibril-run --out
     load_campaign("results.h5")           # a campaign file (fibril-campaign)
+
+Layers, lowest first (each subpackage's docstring says what it owns; ``lint-imports`` checks that
+nothing imports upwards): :mod:`.errors`; :mod:`.geometry` and :mod:`.kernels`; :mod:`.elastic`;
+:mod:`.solve`; :mod:`.path`; :mod:`.inputs`; :mod:`.io` and :mod:`.model`; :mod:`.api`;
+:mod:`.campaign` and :mod:`.accuracy`; :mod:`.cli`.
 """
 
 from ._version import __version__
 from .api import simulate
-from .campaign.data import load_campaign
+from .campaign.analysis.data import load_campaign
 from .errors import ConfigError, FibrilError, NoConvergenceError, StoreError
-from .scene import Scene, SolverOptions, scene_from_dict
-from .store import read_result_file
+from .inputs.scene import Scene, SolverOptions, scene_from_dict
+from .io.store import read_result_file
 
 __all__ = ["Scene", "SolverOptions", "scene_from_dict", "simulate", "ConfigError",
            "FibrilError", "NoConvergenceError", "StoreError", "load_campaign", "read_result_file",

@@ -14,13 +14,21 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from .errors import NoConvergenceError
-from .loading import PathDriver
-from .path_records import CurveRecorder
-from .machine import MachineDriver, machine_displacement, make_driver
+from .inputs.scene import Scene
+from .io.results import (
+    STATUS_FAILED,
+    STATUS_OK,
+    Curve,
+    PillarState,
+    PreloadResult,
+    SimulationResult,
+    software_versions,
+)
 from .model import Model, OperatorCache, build_scene_model
-from .results import (STATUS_FAILED, STATUS_OK, Curve, PillarState, PreloadResult,
-                      SimulationResult, software_versions)
-from .scene import Scene
+from .path.criterion import footprint_factor
+from .path.loading import PathDriver
+from .path.machine import MachineDriver, machine_displacement, make_driver
+from .path.records import CurveRecorder
 
 log = logging.getLogger(__name__)
 
@@ -148,6 +156,12 @@ def _run_preloads(model: Model, scene: Scene, driver: PathDriver) -> list[Preloa
     return out
 
 
+def calibrate(scene: Scene) -> float:
+    """The footprint criterion's factor of ``scene``, its calibration pillar solved by
+    :func:`simulate` (:func:`fibril_hpc.path.criterion.footprint_factor`)."""
+    return footprint_factor(scene, simulate)
+
+
 def simulate(scene: Scene, *, model: Model | None = None,
              operators: OperatorCache | None = None) -> SimulationResult:
     """Simulate one scene: load to every preload along one loading path, pull off from each.
@@ -178,7 +192,7 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
               ) -> SimulationResult:
     t0 = time.perf_counter()
     if model is None:
-        model = build_scene_model(scene, operators)
+        model = build_scene_model(scene, operators, calibrate=calibrate)
     it0, pairs0, solves0 = model.solver.iterations, model.fft_pairs, model.solver.solves
     driver = make_driver(model, scene.k_machine)
     results = _run_preloads(model, scene, driver)

@@ -14,13 +14,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .grid import Geometry, Lattice, PillarGrid, build_pillar_grid
-from .halfspace import HalfSpace
-from .heights import pillar_stiffness, setbacks
-from .tips import tip_offsets
-from .scaling import Scaling, critical_stress
-from .scene import Scene, SolverOptions
-from .solver import ConstrainedCG
+from .elastic.halfspace import HalfSpace
+from .geometry.grid import Geometry, Lattice, PillarGrid, build_pillar_grid
+from .geometry.scaling import Scaling, critical_stress
+from .geometry.tips import tip_offsets
+from .inputs.heights import pillar_stiffness, setbacks
+from .inputs.scene import Scene, SolverOptions
+from .solve.solver import ConstrainedCG
 
 
 @dataclass
@@ -38,7 +38,7 @@ class Model:
     options: SolverOptions
     grid: PillarGrid | None = None
     #: sigma_c over the mesh criterion's sqrt(E* dgamma/(kappa h)) (``solver.criterion``;
-    #: :mod:`fibril_hpc.criterion`); 1.0 for the mesh criterion
+    #: :mod:`fibril_hpc.path.criterion`); 1.0 for the mesh criterion
     criterion_factor: float = 1.0
 
     @property
@@ -65,8 +65,9 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
 
     ``operator`` reuses an existing :class:`HalfSpace` (FFT plans, buffers, kernel transform); it
     must have been built on a geometry with the same grid and active elements (heights may differ).
-    ``m`` sets the padded FFT size of a new operator (default: :func:`~fibril_hpc.greens.padded_size`).
-    ``criterion_factor`` scales the mesh criterion's sigma_c (:mod:`fibril_hpc.criterion`).
+    ``m`` sets the padded FFT size of a new operator (default:
+    :func:`~fibril_hpc.elastic.greens.padded_size`).
+    ``criterion_factor`` scales the mesh criterion's sigma_c (:mod:`fibril_hpc.path.criterion`).
     """
     if operator is None:
         op = HalfSpace.from_options(geometry, options, m=m)
@@ -91,7 +92,7 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
 
 
 def scene_lattice(scene: Scene) -> Lattice:
-    """The lattice step of a scene (see :class:`~fibril_hpc.grid.Lattice`)."""
+    """The lattice step of a scene (see :class:`~fibril_hpc.geometry.grid.Lattice`)."""
     return Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice)
 
 
@@ -102,11 +103,15 @@ def scene_scaling(scene: Scene) -> tuple[Scaling, int, tuple]:
 
 
 def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
-                      m: int | None = None) -> Model:
+                      m: int | None = None, calibrate=None) -> Model:
     """Discretise a pillar scene and build its model (reusing a cached operator, and a cached
-    criterion factor, if given; ``m`` sets the padded FFT size of a new operator)."""
-    from .criterion import footprint_factor
+    criterion factor, if given; ``m`` sets the padded FFT size of a new operator).
 
+    ``calibrate(scene) -> float`` computes the detachment criterion's factor
+    (:func:`fibril_hpc.api.calibrate`, which :func:`fibril_hpc.simulate` passes). Only a scene
+    with ``solver.criterion: footprint`` and adhesion needs it; without it such a scene is a
+    ValueError.
+    """
     lat = scene_lattice(scene)
     scaling = lat.scaling(scene.work_of_adhesion)
     sigma = scene.sigma_tilde * scaling.d_c
@@ -121,8 +126,12 @@ def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
     op = None if operators is None else operators.get(scene, grid.geometry)
     k_tilde = pillar_stiffness(scene.k_tilde, scene.k_law, scene.k_spread, scene.n_side**2,
                                scene.seed)
-    factor = (footprint_factor(scene) if operators is None
-              else operators.factor(scene, footprint_factor))
+    if scene.solver.criterion == "mesh" or not scene.adhesion:
+        factor = 1.0
+    elif calibrate is None:
+        raise ValueError("the footprint criterion needs calibrate= (fibril_hpc.simulate passes it)")
+    else:
+        factor = calibrate(scene) if operators is None else operators.factor(scene, calibrate)
     return build_model(grid.geometry, k=scaling.k(k_tilde), adhesion=scene.adhesion,
                        work_of_adhesion=scene.work_of_adhesion, scaling=scaling,
                        options=scene.solver, grid=grid, operator=op, m=m,

@@ -39,7 +39,7 @@ def campaign_cmd() -> list:
 
 def env() -> dict:
     e = dict(os.environ)
-    from fibril_hpc.campaign.launcher import MARKER_VARS, RANK_VARS, SIZE_VARS
+    from fibril_hpc.campaign.run.launcher import MARKER_VARS, RANK_VARS, SIZE_VARS
 
     for var in MARKER_VARS + SIZE_VARS + RANK_VARS:     # run as if no launcher started us
         e.pop(var, None)

@@ -4,7 +4,7 @@ import pytest
 
 os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(os.path.dirname(__file__), "..", ".numba_cache"))
 
-from fibril_hpc.scene import SolverOptions  # noqa: E402
+from fibril_hpc.inputs.scene import SolverOptions  # noqa: E402
 
 
 @pytest.fixture
@@ -17,8 +17,8 @@ def opts():
 def small_brush():
     """(geometry, half-space operator, its dense matrix) of a 3 x 3 brush at 6 elements per
     diameter: the preconditioner tests' matrices (tests/test_coarse.py, test_moments.py)."""
-    from fibril_hpc.grid import build_pillar_grid
-    from fibril_hpc.halfspace import HalfSpace
+    from fibril_hpc.elastic.halfspace import HalfSpace
+    from fibril_hpc.geometry.grid import build_pillar_grid
 
     geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
     op = HalfSpace(geom, threads=1)

@@ -10,7 +10,7 @@ import pytest
 
 from fibril_hpc import accuracy
 from fibril_hpc.cli.accuracy import main as accuracy_main
-from fibril_hpc.presets import PRESETS
+from fibril_hpc.inputs.presets import PRESETS
 
 
 @pytest.fixture(scope="module")

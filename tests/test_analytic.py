@@ -7,12 +7,12 @@ import numpy as np
 import pytest
 
 from fibril_hpc import Scene, simulate
-from fibril_hpc import analytic
-from fibril_hpc.grid import footprint
-from fibril_hpc.loading import CurveRecorder, PathDriver
+from fibril_hpc.elastic import analytic
+from fibril_hpc.geometry.grid import footprint
+from fibril_hpc.geometry.scaling import Scaling
+from fibril_hpc.geometry.shapes import punch_row, sphere
 from fibril_hpc.model import build_model
-from fibril_hpc.scaling import Scaling
-from fibril_hpc.shapes import punch_row, sphere
+from fibril_hpc.path.loading import CurveRecorder, PathDriver
 
 
 def single_pillar(epd, opts):

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from benchmarks.fibril_bench import cli, memory, table, timing
-from fibril_hpc.grid import pitch_elements
+from fibril_hpc.geometry.grid import pitch_elements
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -102,14 +102,14 @@ def test_floor_pair_is_a_real_fft_pair():
 
 
 def test_memory_arrays_counts_what_the_solve_holds():
-    from fibril_hpc.loading import PathDriver
     from fibril_hpc.model import build_scene_model
+    from fibril_hpc.path.loading import PathDriver
 
     model = build_scene_model(timing.bench_scene(2, 7))
     drv = PathDriver(model)
     drv.solve_at(1.0 * model.scaling.d_c)
     a = memory.memory_arrays(model, drv)
-    from fibril_hpc.fft import COLUMN_BLOCK as B
+    from fibril_hpc.elastic.fft import COLUMN_BLOCK as B
 
     pair = model.operator.pair
     m, r = model.operator.m, len(pair.rows)

@@ -7,11 +7,13 @@ import signal
 import time
 
 import pytest
-
 from campaign_helpers import TINY, results_by_key, run, same_numbers, start, write_grid
+
 from fibril_hpc import load_campaign
-from fibril_hpc.campaign import auto, fit, load_spec
-from fibril_hpc.campaign.planner import FixedPlanner
+from fibril_hpc.campaign import load_spec
+from fibril_hpc.campaign.laws import fit
+from fibril_hpc.campaign.plan import auto
+from fibril_hpc.campaign.run.planner import FixedPlanner
 from fibril_hpc.cli.campaign import main
 
 AUTO = dict(TINY, k_tilde=[1, 0.01], sigma_tilde=[0.3], seeds=2, output="auto.h5",
@@ -156,7 +158,7 @@ def test_status_counts_the_current_round_of_an_unfinished_auto_path(auto_run, tm
 
     import h5py
 
-    from fibril_hpc.campaign.status import file_status
+    from fibril_hpc.campaign.analysis.status import file_status
 
     _, ref = auto_run
     assert file_status(ref).totals["pending"] == 0

@@ -87,7 +87,7 @@ def test_fixture_layout_and_reader():
 
 
 def test_old_file_resumes_with_same_layout(tmp_path):
-    from fibril_hpc.campaign.runner import run_serial
+    from fibril_hpc.campaign.run.runner import run_serial
 
     for name in ("campaign_v1.yaml", "campaign_v1.h5"):
         shutil.copy(os.path.join(DATA, name), tmp_path / name)
@@ -104,9 +104,13 @@ def test_old_file_resumes_with_same_layout(tmp_path):
 
 
 def test_record_schema_derives_every_list():
-    from fibril_hpc.campaign.record import COLUMNS, CURVE_KEYS, SCALAR_KEYS, JobRecord
-
-    from fibril_hpc.campaign.record import OPTIONAL_CURVE_KEYS
+    from fibril_hpc.campaign.storage.record import (
+        COLUMNS,
+        CURVE_KEYS,
+        OPTIONAL_CURVE_KEYS,
+        SCALAR_KEYS,
+        JobRecord,
+    )
 
     assert set(SCALAR_KEYS) == set(JOB_ATTRS) | set(MACHINE_ATTRS)
     assert set(CURVE_KEYS) == CURVES and set(OPTIONAL_CURVE_KEYS) == MACHINE_CURVES

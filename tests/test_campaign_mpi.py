@@ -8,8 +8,8 @@ import sys
 import time
 
 import pytest
-
 from campaign_helpers import campaign_cmd, env, results_by_key, same_numbers, write_grid
+
 from fibril_hpc.cli.campaign import main
 
 MPIRUN = shutil.which("mpirun", path=os.path.dirname(sys.executable)) or shutil.which("mpirun")

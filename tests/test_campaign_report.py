@@ -6,12 +6,13 @@ import math
 
 import numpy as np
 import pytest
-
 from campaign_helpers import TINY, write_grid
+
 from fibril_hpc import load_campaign
-from fibril_hpc.campaign import fit, store
+from fibril_hpc.campaign.laws import fit
+from fibril_hpc.campaign.plan.spec import spec_from_dict
+from fibril_hpc.campaign.storage import store
 from fibril_hpc.cli.campaign import main
-from fibril_hpc.campaign.spec import spec_from_dict
 
 PRELOADS = [0.01, 0.02, 0.04, 0.08, 0.16, 0.32, 0.64, 1.3, 2.6, 5.0]
 ALPHA, BETA = 0.5, 0.25                         # sigma~_c = 2

@@ -9,8 +9,8 @@ import time
 
 import h5py
 import pytest
-
 from campaign_helpers import env, results_by_key, run, start, write_grid
+
 from fibril_hpc import load_campaign
 
 

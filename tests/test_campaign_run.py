@@ -6,12 +6,12 @@ import json
 import h5py
 import numpy as np
 import pytest
-
 from campaign_helpers import TINY, results_by_key, same_numbers, write_grid
+
 from fibril_hpc import load_campaign
 from fibril_hpc.campaign import load_spec
+from fibril_hpc.campaign.run.runner import run_serial
 from fibril_hpc.cli.campaign import main
-from fibril_hpc.campaign.runner import run_serial
 
 
 @pytest.fixture(scope="module")
@@ -102,12 +102,12 @@ def test_failed_jobs_are_recorded_then_retried(tmp_path, capsys):
 
 
 def test_exception_in_a_job_is_a_failed_record(tmp_path, monkeypatch):
-    import fibril_hpc.campaign.execute
+    import fibril_hpc.campaign.run.execute
 
     def boom(scene, **kw):
         raise RuntimeError("synthetic failure")
 
-    monkeypatch.setattr(fibril_hpc.campaign.execute, "simulate", boom)
+    monkeypatch.setattr(fibril_hpc.campaign.run.execute, "simulate", boom)
     grid = write_grid(tmp_path, k_tilde=[1])
     assert main([grid, "--no-progress"]) == 1
     r = results_by_key(str(tmp_path / "tiny.h5"))

@@ -4,8 +4,8 @@ import os
 
 import pytest
 import yaml
-
 from campaign_helpers import TINY, run, write_grid
+
 from fibril_hpc import ConfigError
 from fibril_hpc.campaign import spec_from_dict
 from fibril_hpc.cli.campaign import main
@@ -103,10 +103,10 @@ def test_dry_run_writes_nothing(tmp_path, capsys):
 
 
 def test_dry_run_model_follows_preloads_preset_and_grid():
-    """The cost model's shape (campaign/estimate.py): the default 18 x 18 scene it was fitted on,
+    """The cost model's shape (campaign/plan/estimate.py): the default 18 x 18 scene it was fitted on,
     more and larger preloads cost more, `fast` less, a d_tilde preload counts as a full one."""
     from fibril_hpc import Scene
-    from fibril_hpc.campaign.estimate import task_pairs
+    from fibril_hpc.campaign.plan.estimate import task_pairs
 
     one = Scene(F_P=(4.0,))
     # measured with the defaults (moments, direction to 100 x cg_tol; NOTES, issue 8): 2 968

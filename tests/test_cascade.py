@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from fibril_hpc import Scene, simulate
-from fibril_hpc.cascade import LocalCascade
 from fibril_hpc.model import build_scene_model
+from fibril_hpc.solve.cascade import LocalCascade
 
 TOL = 1e-11     # CG tolerance of both paths: the comparison is then limited by it, not by physics
 

@@ -7,11 +7,10 @@ tolerance; and it must be an SPD preconditioner (CG's requirement) on partial co
 
 import numpy as np
 import pytest
-
-from fibril_hpc.coarse import TwoLevelPreconditioner
-from fibril_hpc.moments import MomentTwoLevelPreconditioner
-
 from test_cascade import CASES, assert_same_path, run_path
+
+from fibril_hpc.solve.coarse import TwoLevelPreconditioner
+from fibril_hpc.solve.moments import MomentTwoLevelPreconditioner
 
 TWO_LEVEL_CASES = [c for c in CASES if "preconditioner" not in c]
 
@@ -28,9 +27,10 @@ def test_coarse_levels_match_block_jacobi(case, kind):
 
 def test_auto_is_two_level_up_to_max_pillars_then_block():
     from fibril_hpc import Scene
-    from fibril_hpc.coarse import MAX_PILLARS
-    from fibril_hpc.grid import build_pillar_grid
-    from fibril_hpc.precond import BlockPreconditioner, make_preconditioner
+    from fibril_hpc.geometry.grid import build_pillar_grid
+    from fibril_hpc.solve.coarse import MAX_PILLARS
+    from fibril_hpc.solve.factory import make_preconditioner
+    from fibril_hpc.solve.precond import BlockPreconditioner
 
     side = int(MAX_PILLARS**0.5)
     assert side**2 == MAX_PILLARS
@@ -93,7 +93,7 @@ def test_two_level_is_spd_with_the_exact_coarse_diagonal(small_brush, k_tilde):
 
 @pytest.mark.parametrize("k_tilde", [1e-5, 1e-1, 1.0, 1e5, float("inf")])
 def test_coarse_levels_cg_match_dense_solve_in_fewer_iterations(small_brush, k_tilde):
-    from fibril_hpc.solver import ConstrainedCG
+    from fibril_hpc.solve.solver import ConstrainedCG
 
     geom, op, K = small_brush
     alpha = 0.0 if np.isinf(k_tilde) else geom.h**2 / k_tilde
@@ -116,7 +116,7 @@ def test_coarse_levels_cg_match_dense_solve_in_fewer_iterations(small_brush, k_t
 
 
 def test_two_level_needs_one_footprint():
-    from fibril_hpc.precond import make_preconditioner
+    from fibril_hpc.solve.factory import make_preconditioner
 
     class Ragged:     # two groups of different sizes: no shared footprint
         starts = np.array([0, 2, 5])
@@ -194,8 +194,8 @@ def traced_coarse_bytes(scene, kind, n_out):
     in which ``n_out`` pillars rejoin (a dense rebuild; traced), geometry)."""
     import tracemalloc
 
-    from fibril_hpc.loading import PathDriver
     from fibril_hpc.model import build_scene_model
+    from fibril_hpc.path.loading import PathDriver
 
     model = build_scene_model(scene)
     pc = model.solver.precond
@@ -221,7 +221,7 @@ def test_memory_estimate_covers_the_coarse_level():
     """limits.coarse_bytes bounds what the coarse level really holds: its own arrays after a
     solve plus the peak of an update that rebuilds F^-1 (traced), on a 12 x 12 brush."""
     from fibril_hpc import Scene
-    from fibril_hpc.limits import coarse_bytes, memory_estimate
+    from fibril_hpc.inputs.limits import coarse_bytes, memory_estimate
 
     scene = Scene(n_side=12, elements_per_diameter=3, solver={"fft_threads": 1})
     kept, peak, geom = traced_coarse_bytes(scene, TwoLevelPreconditioner, 60)

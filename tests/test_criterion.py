@@ -7,13 +7,14 @@ import numpy as np
 import pytest
 
 from fibril_hpc import Scene, simulate
-from fibril_hpc.analytic import single_pillar_F_A
-from fibril_hpc.campaign.spec import job_key
-from fibril_hpc.criterion import calibration_scene, footprint_factor
+from fibril_hpc.api import calibrate
+from fibril_hpc.campaign.plan.spec import job_key
+from fibril_hpc.elastic.analytic import single_pillar_F_A
 from fibril_hpc.errors import ConfigError
+from fibril_hpc.geometry.scaling import critical_stress
+from fibril_hpc.inputs.scene import scene_from_dict
 from fibril_hpc.model import OperatorCache, build_scene_model
-from fibril_hpc.scaling import critical_stress
-from fibril_hpc.scene import scene_from_dict
+from fibril_hpc.path.criterion import calibration_scene, footprint_factor
 
 FP = {"fft_threads": 1, "criterion": "footprint"}
 
@@ -38,23 +39,25 @@ def test_calibrated_single_pillar_meets_kendall(epd, lattice):
 
 def test_factor_is_one_footprints_and_scales_sigma_c():
     # the factor depends on the footprint in elements, not on the brush or its springs
-    a = footprint_factor(Scene(n_side=3, elements_per_diameter=6, solver=FP))
-    b = footprint_factor(Scene(n_side=5, k_tilde=0.1, sigma_tilde=2, elements_per_diameter=6,
-                               solver=FP))
+    a = footprint_factor(Scene(n_side=3, elements_per_diameter=6, solver=FP), simulate)
+    b = calibrate(Scene(n_side=5, k_tilde=0.1, sigma_tilde=2, elements_per_diameter=6,
+                        solver=FP))
     assert a == b and a == pytest.approx(1.0802, abs=1e-4)      # -7.4 % single-pillar error
     s = Scene(n_side=3, elements_per_diameter=6, solver=FP)
-    m = build_scene_model(s)
+    m = build_scene_model(s, calibrate=calibrate)
     assert m.criterion_factor == a
+    with pytest.raises(ValueError, match="calibrate="):     # the model cannot calibrate itself
+        build_scene_model(s)
     assert m.sigma_c == critical_stress(m.geometry.h, 1.0) * a
     # no adhesion: no criterion, nothing to calibrate
-    assert footprint_factor(s.replace(adhesion=False)) == 1.0
+    assert footprint_factor(s.replace(adhesion=False), simulate) == 1.0
     # a campaign's operator cache computes it once per lattice step and accuracy options, for
     # every brush size alike
     calls = []
     cache = OperatorCache()
     for n_side in (3, 3, 5, 2):
         got = cache.factor(s.replace(n_side=n_side),
-                           lambda sc: calls.append(sc) or footprint_factor(sc))
+                           lambda sc: calls.append(sc) or calibrate(sc))
         assert got == a
     assert len(calls) == 1
 

@@ -18,12 +18,12 @@ import zlib
 
 import numpy as np
 import pytest
-
 from campaign_helpers import env, results_by_key, run, write_grid
+
 from fibril_hpc import load_campaign
-from fibril_hpc.campaign import journal as J
 from fibril_hpc.campaign import load_spec
-from fibril_hpc.campaign.runner import run_serial
+from fibril_hpc.campaign.run.runner import run_serial
+from fibril_hpc.campaign.storage import journal as J
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "faultfs"))
 import faultinject  # noqa: E402
@@ -105,7 +105,7 @@ def test_1_disk_full_during_checkpoint_is_an_interruption(tmp_path, inject, caps
 
 
 def test_1_free_space_is_checked_before_the_copy(tmp_path, monkeypatch, capsys):
-    from fibril_hpc import files
+    from fibril_hpc.io import files
 
     grid = write_grid(tmp_path)
     assert run_serial(load_spec(grid), progress=False, max_tasks=2) == 75
@@ -396,7 +396,7 @@ def test_8_grid_too_big_is_one_line_everywhere(tmp_path, capsys, caplog):
 
 
 def test_8_memory_estimate_against_available(tmp_path, capsys, caplog, monkeypatch):
-    from fibril_hpc import limits
+    from fibril_hpc.inputs import limits
 
     monkeypatch.setattr(limits, "available_memory", lambda: 1 << 30)
     big = write_grid(tmp_path, scene={"n_side": 200, "elements_per_diameter": 18})
@@ -468,7 +468,7 @@ def test_9_plot_and_report_on_a_full_or_read_only_disk(finished, tmp_path, capsy
 
 
 def test_9_second_writer_through_a_symlink_is_refused(tmp_path, capsys, caplog):
-    from fibril_hpc.campaign.writer import CampaignWriter
+    from fibril_hpc.campaign.storage.writer import CampaignWriter
 
     grid = write_grid(tmp_path)
     first = CampaignWriter(load_spec(grid))
@@ -484,7 +484,7 @@ def test_9_second_writer_through_a_symlink_is_refused(tmp_path, capsys, caplog):
 
 # ------------------------------------------------------------------ friendliness
 def test_friendly_end_lines_and_progress_across_resumes(finished, tmp_path, capsys):
-    from fibril_hpc.campaign.progress import Progress, finished_line, nothing_to_run
+    from fibril_hpc.campaign.run.progress import Progress, finished_line, nothing_to_run
 
     out = copy_of(finished, tmp_path)
     assert run_serial(load_spec(str(tmp_path / "grid.yaml")), progress=False) == 0

@@ -3,7 +3,7 @@ import math
 import numpy as np
 import pytest
 
-from fibril_hpc.greens import K00, kernel_spectrum, love, padded_size, wrapped_kernel
+from fibril_hpc.elastic.greens import K00, kernel_spectrum, love, padded_size, wrapped_kernel
 
 
 def naive_love(x, y, h):

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from fibril_hpc.grid import build_pillar_grid
-from fibril_hpc.halfspace import HalfSpace
+from fibril_hpc.elastic.halfspace import HalfSpace
+from fibril_hpc.geometry.grid import build_pillar_grid
 
 
 @pytest.fixture(scope="module")

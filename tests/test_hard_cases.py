@@ -18,10 +18,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from fibril_hpc import Scene, simulate
-from fibril_hpc.loading import CurveRecorder, PathDriver
+from fibril_hpc.geometry.scaling import Scaling
+from fibril_hpc.geometry.shapes import sphere
 from fibril_hpc.model import build_model, build_scene_model
-from fibril_hpc.scaling import Scaling
-from fibril_hpc.shapes import sphere
+from fibril_hpc.path.loading import CurveRecorder, PathDriver
 
 SMALL = dict(n_side=3, phi=0.16, elements_per_diameter=5)
 ONE = dict(fft_threads=1)
@@ -169,7 +169,7 @@ def test_single_element_in_contact_is_exact():
     geom = sphere(R, 4, h)
     ring_gap = h * h / (2 * R)
     sc = Scaling(phi=1.0, work_of_adhesion=1.0, area=1.0)
-    from fibril_hpc.scene import SolverOptions
+    from fibril_hpc.inputs.scene import SolverOptions
 
     m = build_model(geom, k=math.inf, adhesion=True, work_of_adhesion=1.0, scaling=sc,
                     options=SolverOptions(fft_threads=1, load_event_merge=0.0))
@@ -306,7 +306,7 @@ def test_one_and_two_fft_threads_agree():
     """1 vs 2 FFT threads to 1e-10 relative: the half-space product on a grid large enough for
     FFTW to split the work (10 x 10 brush, FFT side >= 300), and whole load curves of a small
     brush (the solver adds nothing thread-dependent)."""
-    from fibril_hpc.halfspace import HalfSpace
+    from fibril_hpc.elastic.halfspace import HalfSpace
 
     geom = build_scene_model(Scene(n_side=10, elements_per_diameter=8, solver=ONE)).geometry
     ops = [HalfSpace(geom, backend="pyfftw", threads=t) for t in (1, 2)]

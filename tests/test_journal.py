@@ -17,7 +17,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from fibril_hpc.campaign import journal as J
+from fibril_hpc.campaign.storage import journal as J
 
 HASH = "a" * 64
 OTHER = "b" * 64

@@ -10,19 +10,19 @@ import numpy as np
 import pytest
 
 from fibril_hpc import Scene, simulate
-from fibril_hpc import analytic
-from fibril_hpc.campaign.spec import job_key, spec_from_dict
+from fibril_hpc.campaign.plan.spec import job_key, spec_from_dict
 from fibril_hpc.cli.run import main as run_main
+from fibril_hpc.elastic import analytic
 from fibril_hpc.errors import ConfigError
-from fibril_hpc.grid import Lattice, build_pillar_grid
-from fibril_hpc.heights import draws
-from fibril_hpc.loading import CurveRecorder, PathDriver
-from fibril_hpc.machine import MachineDriver, make_driver
+from fibril_hpc.geometry.grid import Lattice, build_pillar_grid
+from fibril_hpc.geometry.scaling import Scaling
+from fibril_hpc.geometry.shapes import sphere
+from fibril_hpc.geometry.tips import tip_offsets
+from fibril_hpc.inputs.heights import draws
+from fibril_hpc.inputs.scene import SCENE_FIELDS
 from fibril_hpc.model import build_model, build_scene_model
-from fibril_hpc.scaling import Scaling
-from fibril_hpc.scene import SCENE_FIELDS
-from fibril_hpc.shapes import sphere
-from fibril_hpc.tips import tip_offsets
+from fibril_hpc.path.loading import CurveRecorder, PathDriver
+from fibril_hpc.path.machine import MachineDriver, make_driver
 
 LAB = ("lattice", "heights", "heights_d_c", "heights_source", "k_law", "k_spread", "k_source",
        "tip", "tip_radius", "k_machine")
@@ -182,7 +182,7 @@ def test_grid_limit_uses_the_scene_lattice(tmp_path, capsys):
     assert len(err) == 1 and err[0].startswith("fibril-run: error: elements_per_diameter")
     assert "8421" in err[0] and not out.exists()
     from fibril_hpc import Scene
-    from fibril_hpc.limits import MAX_GRID_SIDE, memory_estimate
+    from fibril_hpc.inputs.limits import MAX_GRID_SIDE, memory_estimate
 
     square = Scene(n_side=200, phi=0.05, elements_per_diameter=10, preset="fast")
     assert memory_estimate(square)[1] == 7800 <= MAX_GRID_SIDE
@@ -227,7 +227,7 @@ def test_per_pillar_springs_kernels_match_the_reference():
 
 
 def test_stiffness_law_draws_and_files(tmp_path):
-    from fibril_hpc.heights import pillar_stiffness
+    from fibril_hpc.inputs.heights import pillar_stiffness
 
     k = pillar_stiffness(0.01, "lognormal", 0.5, 40_000, 2)
     assert np.median(k) == pytest.approx(0.01, rel=0.02)
@@ -403,7 +403,7 @@ def test_campaign_sweeps_lab_fields_and_old_grids_keep_their_keys(tmp_path):
 
 
 def test_lab_fields_round_trip_through_the_result_file(tmp_path, opts):
-    from fibril_hpc.store import read_result_file, write_result_file
+    from fibril_hpc.io.store import read_result_file, write_result_file
 
     s = small(opts, k_machine=0.2, tip="rounded", tip_radius=0.3, heights="uniform",
               lattice="hexagonal")

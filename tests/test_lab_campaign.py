@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from fibril_hpc import load_campaign
-from fibril_hpc.campaign.data import fill_k_machine
-from fibril_hpc.campaign.export import export_csv
-from fibril_hpc.campaign.record import COLUMNS
-from fibril_hpc.campaign.runner import run_serial
-from fibril_hpc.campaign.spec import spec_from_dict
+from fibril_hpc.campaign.analysis.data import fill_k_machine
+from fibril_hpc.campaign.analysis.export import export_csv
+from fibril_hpc.campaign.plan.spec import spec_from_dict
+from fibril_hpc.campaign.run.runner import run_serial
+from fibril_hpc.campaign.storage.record import COLUMNS
 
 DATA = os.path.join(os.path.dirname(__file__), "data")
 MACHINE = ("k_machine", "jumps", "F_jump", "d_machine_tilde_at_F_A")
@@ -83,7 +83,7 @@ def test_old_files_open_with_the_machine_fields_missing(tmp_path):
 
 
 def test_report_shows_the_jump_off_beside_the_peak_when_the_machine_is_swept(tmp_path):
-    from fibril_hpc.campaign.report import write_report
+    from fibril_hpc.campaign.analysis.report import write_report
 
     grid = {**GRID, "F_P": [1.0, 2.0]}
     spec = spec_from_dict({**grid, "sweep": {"k_machine": [".inf", 0.05]}},
@@ -113,7 +113,7 @@ def test_report_shows_the_jump_off_beside_the_peak_when_the_machine_is_swept(tmp
 # ------------------------------------------------------------------------------ pillar count
 def test_a_pillar_count_is_the_scene_of_its_side():
     from fibril_hpc import Scene
-    from fibril_hpc.campaign.spec import job_key
+    from fibril_hpc.campaign.plan.spec import job_key
 
     # keys computed by the tree before n_pillars existed (d71b20c, git archive export)
     assert job_key(Scene()) == "4c1f02b9c2643719"

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from fibril_hpc import Scene
-from fibril_hpc.grid import Lattice, build_pillar_grid
+from fibril_hpc.geometry.grid import Lattice, build_pillar_grid
 from fibril_hpc.model import build_scene_model, scene_scaling
 
 

@@ -1,4 +1,4 @@
-"""The moment coarse level (``solver.preconditioner: moments``, :mod:`fibril_hpc.moments`).
+"""The moment coarse level (``solver.preconditioner: moments``, :mod:`fibril_hpc.solve.moments`).
 
 It must not change any recorded contact set, event count, let-go d~ or order, F~_A or F~_P beyond
 the solver tolerance (tests/test_coarse.py runs the small brushes of tests/test_cascade.py against
@@ -11,10 +11,10 @@ approximate the exact coarse couplings of well separated pillars.
 
 import numpy as np
 import pytest
-
-from fibril_hpc.moments import MomentTwoLevelPreconditioner, multipole_couplings
-
 from test_coarse import as_matrix, traced_coarse_bytes
+
+from fibril_hpc.solve.moments import MomentTwoLevelPreconditioner, multipole_couplings
+
 
 def _awkward_set(geom, seed):
     """80 % of the elements attached, one pillar out of contact, one with a single attached
@@ -83,8 +83,8 @@ def test_multipole_blocks_approximate_the_exact_couplings():
     """Against Zh_g^T K Zh_h from the dense influence matrix, in units of the pillars' own
     stiffness (F_ab / sqrt(F_gg,aa F_hh,bb)): the multipole blocks are within 2 % of the
     coupling for neighbours (measured 1.6 %) and far better apart; the matrix is symmetric."""
-    from fibril_hpc.grid import build_pillar_grid
-    from fibril_hpc.halfspace import HalfSpace
+    from fibril_hpc.elastic.halfspace import HalfSpace
+    from fibril_hpc.geometry.grid import build_pillar_grid
 
     geom = build_pillar_grid(5, 0.16, 8, 0.0, 0).geometry
     K = HalfSpace(geom, threads=1).dense()
@@ -103,8 +103,8 @@ def test_multipole_blocks_approximate_the_exact_couplings():
 
 
 def test_auto_picks_moments_where_the_fft_is_dear():
-    from fibril_hpc.grid import build_pillar_grid
-    from fibril_hpc.precond import make_preconditioner, prefers_moments
+    from fibril_hpc.geometry.grid import build_pillar_grid
+    from fibril_hpc.solve.factory import make_preconditioner, prefers_moments
 
     # the fast 18 x 18 scene (FFT 480) keeps the force level; the default one (640), its
     # accurate preset (1280), a 12 x 12 (420) and an 8 x 8 (280) brush take the moments
@@ -124,7 +124,7 @@ def test_memory_estimate_covers_the_moment_level():
     """limits.moment_bytes bounds what the moment level holds after a solve plus the peak of an
     update that rebuilds F^-1 (traced), and the scene estimate adds it where auto picks it."""
     from fibril_hpc import Scene
-    from fibril_hpc.limits import memory_estimate, moment_bytes
+    from fibril_hpc.inputs.limits import memory_estimate, moment_bytes
 
     scene = Scene(n_side=8, elements_per_diameter=5, solver={"fft_threads": 1})
     kept, peak, geom = traced_coarse_bytes(scene, MomentTwoLevelPreconditioner, 30)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from fibril_hpc import Scene, simulate
-from fibril_hpc.grid import pillar_heights
+from fibril_hpc.geometry.grid import pillar_heights
 
 SMALL = dict(n_side=3, phi=0.16, elements_per_diameter=5)
 
@@ -109,8 +109,8 @@ def test_non_adhesive_curve_is_the_fixed_d_contact_solution(opts):
     Check that independently: frictionless contact is path independent, so every point of both
     branches must equal a fresh fixed-d contact solve (PathDriver.solve_at, no load path), and an
     adhesive unloading path with a vanishing detachment stress must retrace the loading path."""
-    from fibril_hpc.loading import CurveRecorder, PathDriver
     from fibril_hpc.model import build_model, build_scene_model
+    from fibril_hpc.path.loading import CurveRecorder, PathDriver
 
     exact = opts.replace(load_event_merge=0.0, event_merge=0.0)    # no event batching
     scene = Scene(**{**SMALL, "k_tilde": 0.05, "sigma_tilde": 0.5, "F_P": 1.0,
@@ -182,8 +182,8 @@ def test_caps_turn_runaway_into_failed_status(opts):
 def test_solve_at_fixed_d_matches_the_load_path_without_adhesion(opts):
     """Frictionless contact is path independent: the active-set solve at one d equals the
     end of the event-driven loading path."""
-    from fibril_hpc.loading import PathDriver
     from fibril_hpc.model import build_scene_model
+    from fibril_hpc.path.loading import PathDriver
 
     scene = Scene(**SMALL, k_tilde=0.05, sigma_tilde=0.8, d_tilde=2.0, adhesion=False, solver=opts)
     path = simulate(scene)

@@ -8,7 +8,7 @@ import pytest
 
 from fibril_hpc import ConfigError, Scene, SolverOptions, scene_from_dict
 from fibril_hpc.cli.run import main as run_main
-from fibril_hpc.presets import PRESETS
+from fibril_hpc.inputs.presets import PRESETS
 
 
 def test_default_preset_is_the_package_default():
@@ -72,7 +72,7 @@ def test_cli_records_the_preset(tmp_path, capsys):
 
 
 def test_campaign_jobs_inherit_the_preset(tmp_path):
-    from fibril_hpc.campaign.spec import spec_from_dict
+    from fibril_hpc.campaign.plan.spec import spec_from_dict
 
     spec = spec_from_dict({"output": "c.h5", "scene": {"preset": "fast", "n_side": 2},
                            "k_tilde": [0.01], "sigma_tilde": [0.5], "F_P": [1.0], "seeds": 1},

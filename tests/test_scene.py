@@ -55,7 +55,7 @@ def test_default_fft_threads_is_one():
 
 
 def test_one_range_gives_the_check_and_the_text():
-    from fibril_hpc.ranges import range_of
+    from fibril_hpc.inputs.ranges import range_of
 
     for field, bad in (("phi", 0.9), ("k_tilde", 0), ("sigma_tilde", -1.0), ("seed", -1),
                        ("n_side", 0), ("elements_per_diameter", 1.0), ("F_P", -1.0)):
@@ -71,8 +71,8 @@ def test_one_range_gives_the_check_and_the_text():
 
 
 def test_option_kinds_decide_keys_presets_and_operators():
-    from fibril_hpc.campaign.spec import KEY_EXCLUDED_SOLVER
-    from fibril_hpc.presets import PRESETS
+    from fibril_hpc.campaign.plan.spec import KEY_EXCLUDED_SOLVER
+    from fibril_hpc.inputs.presets import PRESETS
 
     # the job-key contract of existing campaign files: exactly these are left out
     assert set(KEY_EXCLUDED_SOLVER) == {"fft_threads", "max_wall_s", "max_events"}

@@ -11,7 +11,6 @@ import tempfile
 import time
 
 import pytest
-
 from campaign_helpers import env, results_by_key, write_grid
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from fibril_hpc.grid import build_pillar_grid
-from fibril_hpc.halfspace import HalfSpace
-from fibril_hpc.solver import ConstrainedCG
+from fibril_hpc.elastic.halfspace import HalfSpace
 from fibril_hpc.errors import NoConvergenceError
+from fibril_hpc.geometry.grid import build_pillar_grid
+from fibril_hpc.solve.solver import ConstrainedCG
 
 
 @pytest.fixture(scope="module")
@@ -72,7 +72,7 @@ def test_non_finite_input_raises(setup):
 
 
 def test_block_preconditioner_is_the_exact_block_inverse(setup):
-    from fibril_hpc.precond import BlockPreconditioner
+    from fibril_hpc.solve.precond import BlockPreconditioner
 
     geom, op, K = setup
     alpha = geom.h**2 / 0.01

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from fibril_hpc import Scene, StoreError, simulate
-from fibril_hpc.store import read_result_file, write_result_file
+from fibril_hpc.io.store import read_result_file, write_result_file
 
 
 def _same(a, b):

@@ -11,7 +11,7 @@ scene uses ``fft_threads=1``. Sections (``--only`` picks some):
 ``fft``
     Per padded size m: the *floor*, a plain pyFFTW ``rfft2`` + ``irfft2`` pair on the full m x m
     grid (aligned buffers, one thread, the FFTW planner flag stated), and fibril's row-pruned pair
-    (:class:`~fibril_hpc.fft.FFTPair`) and operator product (scatter + pair + gather).
+    (:class:`~fibril_hpc.elastic.fft.FFTPair`) and operator product (scatter + pair + gather).
 ``cg``
     Per grid size (18 x 18 default brush, the pitch sets N and m): time per CG iteration inside a
     solve on a fixed attached set (each iteration is one operator product) over the floor, and the

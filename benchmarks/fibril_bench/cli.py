@@ -11,7 +11,7 @@ import subprocess
 import sys
 import time
 
-from fibril_hpc.results import software_versions
+from fibril_hpc.io.results import software_versions
 
 from ..common import git_state
 from .campaign_section import section_campaign

@@ -11,8 +11,8 @@ from __future__ import annotations
 import json
 import sys
 
-from fibril_hpc.loading import PathDriver
 from fibril_hpc.model import build_scene_model
+from fibril_hpc.path.loading import PathDriver
 
 from .memory import memory_arrays
 from .timing import bench_scene

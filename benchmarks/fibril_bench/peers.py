@@ -17,8 +17,8 @@ import tempfile
 
 import numpy as np
 
-from fibril_hpc.loading import PathDriver
 from fibril_hpc.model import build_scene_model
+from fibril_hpc.path.loading import PathDriver
 
 from .timing import Stopwatch, bench_scene, loadavg
 

@@ -13,10 +13,10 @@ import numpy as np
 import pyfftw
 
 from fibril_hpc import Scene, simulate
-from fibril_hpc.fft import FFTPair
-from fibril_hpc.greens import padded_size
-from fibril_hpc.loading import PathDriver
+from fibril_hpc.elastic.fft import FFTPair
+from fibril_hpc.elastic.greens import padded_size
 from fibril_hpc.model import build_scene_model, scene_lattice
+from fibril_hpc.path.loading import PathDriver
 
 from .timing import Stopwatch, bench_scene, floor_pair, time_call
 

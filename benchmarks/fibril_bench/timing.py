@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from fibril_hpc import Scene
-from fibril_hpc.grid import pitch_elements
+from fibril_hpc.geometry.grid import pitch_elements
 
 PHI = 0.16
 PIN_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 
-from ..files import save_figure
-from ..presets import PRESETS
+from ..inputs.presets import PRESETS
+from ..io.files import save_figure
 from .study import CASES, TIGHT
 
 

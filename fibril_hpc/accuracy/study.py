@@ -9,10 +9,10 @@ import os
 import time
 
 from ..api import simulate
-from ..files import write_text_atomically
-from ..scene import Scene
-from ..analytic import single_pillar_F_A
-from ..presets import PRESETS, preset_values
+from ..elastic.analytic import single_pillar_F_A
+from ..inputs.presets import PRESETS, preset_values
+from ..inputs.scene import Scene
+from ..io.files import write_text_atomically
 
 #: Tight knobs of reference runs: solve every pass fully, merge no unloading events. Loading
 #: batches stay at the default (load_event_merge 1e-2): the study measures that 0 changes

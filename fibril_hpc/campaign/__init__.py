@@ -1,22 +1,19 @@
 """Parameter campaigns: grid YAML -> jobs -> one resumable HDF5 file (serial or MPI).
 
-Modules, one job each:
+Rooms, lowest first (each one's docstring says what it owns; ``lint-imports`` checks the order):
 
-- inputs: :mod:`.spec` (grid -> jobs with stable keys), :mod:`.estimate` (cost model);
-- records: :mod:`.record` (:class:`JobRecord`, the one field list), :mod:`.journal` +
-  :mod:`.store` (the crash-safe HDF5 file), :mod:`.h5read` (reading it, checked),
-  :mod:`.integrity` (record checksums), :mod:`.writer` (the single writer);
-- running: :mod:`.execute` (one task), :mod:`.runner` (serial), :mod:`.mpi` (master/worker, the
-  only mpi4py import), :mod:`.launcher` (launcher detection), :mod:`.control` (stop signals),
-  :mod:`.progress`;
-- reading: :mod:`.data` (:func:`load_campaign`), :mod:`.status`, :mod:`.merge`, :mod:`.export`,
-  :mod:`.report`, :mod:`.verify` (``verify`` and ``salvage``).
+- :mod:`.laws`: the fitted laws of F~_A(F~_P) and c(sigma~), pure functions;
+- :mod:`.plan`: the grid and its job keys, ``F_P: auto``, the ``--dry-run`` cost estimate;
+- :mod:`.storage`: job records, the journal, checksums, the HDF5 file, the single writer,
+  ``verify``/``salvage`` and ``merge``;
+- :mod:`.run`: one task, the serial runner, the MPI master/worker, stop signals, progress;
+- :mod:`.analysis`: :func:`load_campaign`, status, exports and the report.
 
 The command line (``fibril-campaign``) is :mod:`fibril_hpc.cli.campaign`.
 """
 
-from .data import CampaignData, load_campaign
-from .record import JobRecord
-from .spec import CampaignSpec, load_spec, spec_from_dict
+from .analysis.data import CampaignData, load_campaign
+from .plan.spec import CampaignSpec, load_spec, spec_from_dict
+from .storage.record import JobRecord
 
 __all__ = ["load_campaign", "CampaignData", "JobRecord", "CampaignSpec", "load_spec", "spec_from_dict"]

@@ -5,6 +5,6 @@
 is one line on stderr, exit status 2, nothing written.
 """
 
-from .run import main as run_main  # the entry point's name before the CLI became a package
+from .run import main as run_main
 
 __all__ = ["run_main"]

@@ -9,8 +9,8 @@ from .._version import __version__
 from ..accuracy import CASES, add_errors, markdown, plot, read_rows, run_case
 from ..accuracy.study import run_one
 from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError
-from ..files import check_output_folder
-from ..results import software_versions
+from ..io.files import check_output_folder
+from ..io.results import software_versions
 from .common import Parser, error
 
 PROG = "fibril-accuracy"

@@ -11,10 +11,18 @@ import json
 import os
 import sys
 
-from ..campaign.launcher import launcher_rank
-from ..errors import (EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError,
-                      DamagedFileError, DiskFull, StoreError)
-from ..files import check_output_folder, check_writable
+from ..campaign.run.launcher import launcher_rank
+from ..errors import (
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_USAGE,
+    ConfigError,
+    DamagedFileError,
+    DiskFull,
+    StoreError,
+)
+from ..io.files import check_output_folder, check_writable
 from .common import Parser, error, setup_logging
 
 SUBCOMMANDS = ("run", "status", "report", "export", "merge", "verify", "salvage")
@@ -105,7 +113,7 @@ def main(argv=None) -> int:
 
 
 def _existing(path, field):
-    from ..campaign.store import read_root
+    from ..campaign.storage.store import read_root
 
     if not os.path.isfile(path):
         raise ConfigError(field, path, "an existing campaign file")
@@ -120,8 +128,8 @@ def _existing(path, field):
 # ------------------------------------------------------------------------------------ run
 def cmd_run(args) -> int:
     """Run (or resume) a campaign, or print its plan with ``--dry-run``."""
-    from ..campaign.launcher import connect
-    from ..campaign.spec import load_spec
+    from ..campaign.plan.spec import load_spec
+    from ..campaign.run.launcher import connect
 
     for name in ("checkpoint_s", "grace_s"):
         v = getattr(args, name)
@@ -134,7 +142,7 @@ def cmd_run(args) -> int:
         spec.base = spec.base.replace(solver=spec.base.solver.replace(
             fft_threads=args.fft_threads))
     if not args.ignore_memory_check:
-        from ..limits import check_memory
+        from ..inputs.limits import check_memory
 
         check_memory(spec.base, field="scene")     # before any operator is built
     comm = connect(serial=args.serial)
@@ -146,16 +154,16 @@ def cmd_run(args) -> int:
     kw = dict(extend=args.extend, retry_failed=args.retry_failed, checkpoint_s=args.checkpoint_s,
               progress=not args.no_progress)
     if comm is None:
-        from ..campaign.runner import run_serial
+        from ..campaign.run.runner import run_serial
 
         return run_serial(spec, **kw)
-    from ..campaign.mpi import run_mpi
+    from ..campaign.run.mpi import run_mpi
 
     return run_mpi(comm, spec, grace_s=args.grace_s, **kw)
 
 
 def _print_plan(spec, retry_failed: bool) -> None:
-    from ..campaign.status import plan
+    from ..campaign.analysis.status import plan
 
     pl = plan(spec, retry_failed)
     if spec.auto is None:
@@ -184,7 +192,7 @@ def _print_plan(spec, retry_failed: bool) -> None:
 # ------------------------------------------------------------------------------------ status
 def cmd_status(args) -> int:
     """Print the done/failed/pending counts of a campaign file (safe while it is written)."""
-    from ..campaign.status import file_status
+    from ..campaign.analysis.status import file_status
 
     _existing(args.file, "file")
     st = file_status(args.file)
@@ -215,7 +223,7 @@ def cmd_status(args) -> int:
 # ------------------------------------------------------------------------------------ export
 def cmd_export(args) -> int:
     """Write one row per job as CSV and/or Parquet."""
-    from ..campaign.export import export_csv, export_parquet, parquet_available
+    from ..campaign.analysis.export import export_csv, export_parquet, parquet_available
 
     _existing(args.file, "file")
     if not (args.csv or args.parquet):
@@ -239,7 +247,7 @@ def cmd_export(args) -> int:
 # ------------------------------------------------------------------------------------ merge
 def cmd_merge(args) -> int:
     """Merge campaign files into a new one."""
-    from ..campaign.merge import merge_files
+    from ..campaign.storage.merge import merge_files
 
     for f in args.files:
         _existing(f, "files")
@@ -257,7 +265,7 @@ def cmd_merge(args) -> int:
 def cmd_verify(args) -> int:
     """Check every record; exit 0 when nothing is wrong, 1 when records or journal frames are
     damaged, 2 when the HDF5 structure cannot be read."""
-    from ..campaign.verify import verify_file
+    from ..campaign.storage.verify import verify_file
 
     _existing(args.file, "file")       # not a campaign file: one line, exit 2 (not "damaged")
     v = verify_file(args.file)
@@ -270,7 +278,7 @@ def cmd_verify(args) -> int:
 
 def cmd_salvage(args) -> int:
     """Copy every readable, verified record into a new file to resume from."""
-    from ..campaign.verify import salvage_file
+    from ..campaign.storage.verify import salvage_file
 
     try:
         _existing(args.file, "file")   # not a campaign file: one line, exit 2
@@ -289,7 +297,7 @@ def cmd_salvage(args) -> int:
 # ------------------------------------------------------------------------------------ report
 def cmd_report(args) -> int:
     """Write the plots and the alpha, beta, sigma_c table."""
-    from ..campaign.report import write_report
+    from ..campaign.analysis.report import write_report
 
     _existing(args.file, "file")
     check_output_folder(args.out, "--out")

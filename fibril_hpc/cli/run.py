@@ -7,9 +7,8 @@ import os
 import sys
 
 from .._version import __version__
-from ..errors import (EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError, DiskFull,
-                      StoreError)
-from ..results import software_versions
+from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError, DiskFull, StoreError
+from ..io.results import software_versions
 from .common import Parser, error, setup_logging
 
 PROG = "fibril-run"
@@ -66,12 +65,11 @@ def main(argv=None) -> int:
         print(f"fibril-hpc {__version__}\n{_versions_text()}")
         return EXIT_OK
     setup_logging(args.verbose)
-    from ..config import builtin_scene, load_scene
-    from ..files import check_not_clobbering, check_writable
-    from ..limits import check_memory
+    from ..inputs.config import builtin_scene, load_scene
+    from ..inputs.limits import check_memory
+    from ..io.files import check_not_clobbering, check_writable
 
     try:
-
         if (args.scene is None) == (args.builtin is None):
             raise ConfigError("scene", args.scene, "a scene YAML path or --builtin NAME (one of them)")
         scene = builtin_scene(args.builtin) if args.builtin else load_scene(args.scene)
@@ -90,11 +88,11 @@ def main(argv=None) -> int:
     result = simulate(scene)
     try:
         if args.out:
-            from ..store import write_result_file
+            from ..io.store import write_result_file
 
             write_result_file(args.out, result)
         if args.plot:
-            from ..plot import plot_result
+            from ..io.plot import plot_result
 
             plot_result(result, args.plot)
     except DiskFull as exc:

@@ -1,0 +1,151 @@
+"""Reading a campaign back: :func:`load_campaign` (also ``fibril_hpc.load_campaign``)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+from ...errors import ConfigError, StoreError
+from ..storage.record import COLUMNS, JobRecord
+from ..storage.store import read_snapshot
+
+
+class CampaignData:
+    """A table of jobs (one row per job record) and their curves.
+
+    Attributes
+    ----------
+    meta : dict
+        Root attributes of the file (``campaign_yaml``, ``campaign_hash``, ``definitions`` ...).
+    jobs : list of dict
+        One dict per job, with the :data:`COLUMNS` and ``loading``/``unloading`` curves (dicts
+        of arrays ``d_tilde``, ``F_tilde``, ``contact_fraction``, ``n_pillars_in_contact``).
+    pending_in_journal : int
+        Records finished but not yet folded into the HDF5 file (read from the journal).
+    corrupt : dict
+        Job key -> why, for records of the file that failed their checksum or could not be
+        read: they are *not* in :attr:`jobs` (a warning is logged; resume recomputes them).
+    """
+
+    def __init__(self, meta, jobs, pending_in_journal=0, corrupt=None):
+        self.meta = meta
+        self.jobs = jobs
+        self.pending_in_journal = pending_in_journal
+        self.corrupt = dict(corrupt or {})
+
+    def __len__(self):
+        return len(self.jobs)
+
+    def __iter__(self):
+        return iter(self.jobs)
+
+    def column(self, name: str) -> np.ndarray:
+        """One column over all jobs: a float array when every value is a number, else objects."""
+        vals = [j.get(name) for j in self.jobs]
+        if vals and all(isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
+                        for v in vals):
+            return np.asarray(vals, dtype=float)
+        return np.asarray(vals, dtype=object)
+
+    @property
+    def table(self) -> dict:
+        """Column name -> array (numeric columns as float arrays)."""
+        return {c: self.column(c) for c in COLUMNS}
+
+    def frame(self):
+        """The jobs as a pandas DataFrame, one row per job, the columns of :data:`COLUMNS` typed
+        as the fields of :class:`~fibril_hpc.campaign.storage.record.JobRecord` (float, int64,
+        str); needs pandas (``pip install 'fibril-hpc[report]'``)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ConfigError("pandas", "not installed",
+                              "pip install 'fibril-hpc[report]' for DataFrames") from None
+        types = column_types()
+        data = {}
+        for name in COLUMNS:
+            vals = [j.get(name) for j in self.jobs]
+            t = types[name]
+            if t is float:
+                data[name] = np.array([math.nan if v is None else float(v) for v in vals],
+                                      dtype=float)
+            elif t is int and name in OPTIONAL_INTS:      # a missing value is <NA>, not 0
+                data[name] = pd.array([None if v is None else int(v) for v in vals],
+                                      dtype="Int64")
+            elif t is int:
+                data[name] = np.array([0 if v is None else int(v) for v in vals], dtype=np.int64)
+            else:
+                data[name] = ["" if v is None else str(v) for v in vals]
+        return pd.DataFrame(data, columns=list(COLUMNS))
+
+    @property
+    def definitions(self) -> dict:
+        """The file's normalisation definitions (JSON of the ``definitions`` attribute)."""
+        return json.loads(self.meta.get("definitions", "{}"))
+
+    def select(self, **where) -> list:
+        """Jobs whose fields equal the given values, e.g. ``select(k_tilde=0.01, status="done")``."""
+        out = []
+        for j in self.jobs:
+            ok = True
+            for k, v in where.items():
+                x = j.get(k)
+                if isinstance(v, float) and isinstance(x, float):
+                    ok = ok and (x == v or (math.isnan(x) and math.isnan(v)))
+                else:
+                    ok = ok and x == v
+            if ok:
+                out.append(j)
+        return out
+
+
+def column_types() -> dict:
+    """Column name -> float, int or str, from the annotations of
+    :class:`~fibril_hpc.campaign.storage.record.JobRecord`."""
+    from dataclasses import fields
+
+    names = {"float": float, "int": int, "str": str}
+    return {f.name: names.get(str(f.type).removesuffix(" | None"), str)
+            for f in fields(JobRecord) if f.name in COLUMNS}
+
+
+#: int columns that may be missing (record.py: stored only with a compliant machine)
+OPTIONAL_INTS = ("jumps",)
+
+
+def fill_k_machine(rec: dict) -> dict:
+    """Set a record's missing ``k_machine`` (rigid-machine records and those written before the
+    field existed) from its stored scene: the scene's ``k_machine``, ``inf`` if it names none."""
+    if rec.get("k_machine") is None:
+        text = rec.get("scene_yaml") or ""
+        km = math.inf
+        if "k_machine" in text:
+            import yaml
+
+            km = float((yaml.safe_load(text) or {}).get("k_machine", math.inf))
+        rec["k_machine"] = km
+    return rec
+
+
+def _sort_key(j):
+    return (j.get("k_tilde", 0.0), j.get("sigma_tilde", 0.0), j.get("seed", 0),
+            j.get("preload", 0.0))
+
+
+def load_campaign(path: str, curves: bool = True) -> CampaignData:
+    """Read a campaign file (and the journal of a campaign still running) into a table.
+
+    Examples
+    --------
+    >>> c = load_campaign("results.h5")                      # doctest: +SKIP
+    >>> done = c.select(status="done", k_tilde=0.01)        # doctest: +SKIP
+    >>> [(j["F_P"], j["F_A"]) for j in done]                # doctest: +SKIP
+    >>> df = c.frame()              # pandas DataFrame, one row per job  # doctest: +SKIP
+    """
+    snap = read_snapshot(path, curves=curves)
+    if not snap.root:
+        raise StoreError(f"{path}: no campaign file here")
+    jobs = sorted((fill_k_machine(r) for r in snap.records.values()), key=_sort_key)
+    return CampaignData(snap.root, jobs, snap.pending, snap.corrupt)

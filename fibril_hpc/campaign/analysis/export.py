@@ -1,0 +1,56 @@
+"""Export of a campaign, one row per job with the columns of
+:data:`fibril_hpc.campaign.storage.record.COLUMNS`: CSV
+(no extra dependency) and Parquet (pandas + pyarrow: the ``report`` extra)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+
+from ...io.files import write_bytes_atomically, write_text_atomically
+from ..storage.record import COLUMNS
+from .data import load_campaign
+
+
+def _csv_value(v):
+    if isinstance(v, float):
+        return repr(v)
+    return "" if v is None else v
+
+
+def export_csv(path: str, out: str) -> int:
+    """Write the jobs of the campaign file ``path`` to ``out`` (atomically: temporary file +
+    rename; a full disk is a one-line :class:`~fibril_hpc.errors.DiskFull`); returns the rows."""
+    c = load_campaign(path, curves=False)
+    buf = io.StringIO(newline="")
+    w = csv.writer(buf)
+    w.writerow(COLUMNS)
+    for j in c.jobs:
+        w.writerow([_csv_value(j.get(col)) for col in COLUMNS])
+    write_text_atomically(out, buf.getvalue(), "writing the CSV export")
+    return len(c.jobs)
+
+
+def parquet_available() -> bool:
+    """Whether pandas and pyarrow can be imported (Parquet export)."""
+    try:
+        import pandas  # noqa: F401
+        import pyarrow  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def export_parquet(path: str, out: str) -> int:
+    """Write the jobs of ``path`` to the Parquet file ``out`` (atomically, typed columns);
+    returns the rows. Needs pandas and pyarrow."""
+    df = load_campaign(path, curves=False).frame()
+    buf = io.BytesIO()
+    df.to_parquet(buf, engine="pyarrow", index=False)
+    write_bytes_atomically(out, buf.getvalue(), "writing the Parquet export",
+                           "." + os.path.basename(out) + ".part-")
+    return len(df)
+
+
+__all__ = ["export_csv", "export_parquet", "parquet_available"]

@@ -1,0 +1,139 @@
+"""What a campaign file holds and what is left to do: :func:`file_status` and :func:`plan`.
+
+Both read the file the way every reader does (journal first, never blocking the writer), so they
+are safe while a campaign runs.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+import yaml
+
+from ...errors import StoreError
+from ..plan.auto import path_todo, results_by_path
+from ..plan.estimate import fft_pair_seconds, task_seconds
+from ..plan.spec import spec_from_dict
+from ..storage.store import read_records
+from .data import load_campaign
+
+STATES = ("done", "failed", "pending")
+
+
+@dataclass
+class FileStatus:
+    """Job counts of a campaign file, in total and by k~ (see :func:`file_status`)."""
+
+    meta: dict
+    totals: dict
+    by_k_tilde: dict
+    in_journal: int
+    done_wall_s: list = field(default_factory=list)
+    failed: list = field(default_factory=list)
+    #: keys of corrupt records (counted as pending: resume recomputes them)
+    corrupt: list = field(default_factory=list)
+
+
+def _grid_jobs(meta: dict, path: str, records=()) -> dict | None:
+    """{key: Job} of the grid stored in the file, or None (a merged file may hold several).
+
+    With ``F_P: auto`` the grid's jobs so far: the current round of every unfinished path,
+    replayed from ``records`` (later rounds are not known yet)."""
+    try:
+        resolved = yaml.safe_load(meta.get("campaign_yaml", ""))
+        resolved["output"] = os.path.abspath(path)
+        spec = spec_from_dict(resolved)
+    except Exception:  # noqa: BLE001 - no single grid: count the records only
+        return None
+    if spec.auto is None:
+        return {j.key: j for j in spec.jobs}
+
+    done, failed = results_by_path(records, spec.paths())
+    out = {}
+    for p in spec.paths():
+        todo, _ = path_todo(spec.auto, done[p], False, failed[p])
+        if todo:
+            out.update({j.key: j for j in spec.auto_task(p, todo).jobs})
+    return out
+
+
+def file_status(path: str) -> FileStatus:
+    """Done, failed and pending jobs of the file at ``path`` (pending: in its grid, no record)."""
+    c = load_campaign(path, curves=False)
+    grid = _grid_jobs(c.meta, path, c.jobs) or {}
+    recs = {j["key"]: j for j in c.jobs}
+    by_k: dict = {}
+    for k in set(recs) | set(grid):
+        r = recs.get(k)
+        kt = r["k_tilde"] if r else grid[k].k_tilde
+        st = r["status"] if r else "pending"
+        d = by_k.setdefault(kt, dict.fromkeys(STATES, 0))
+        d[st if st in d else "failed"] += 1
+    totals = {s: sum(d[s] for d in by_k.values()) for s in STATES}
+    walls = [r["wall_s"] / max(1, r.get("group_size", 1)) for r in c.jobs
+             if r["status"] == "done"]
+    return FileStatus(meta=c.meta, totals=totals, by_k_tilde=dict(sorted(by_k.items())),
+                      in_journal=c.pending_in_journal, done_wall_s=walls,
+                      corrupt=sorted(c.corrupt),
+                      failed=[r for r in c.jobs if r["status"] == "failed"])
+
+
+@dataclass
+class Plan:
+    """What ``fibril-campaign run`` would do now (see :func:`plan`)."""
+
+    done: int
+    failed: int
+    to_run: set
+    tasks: list
+    fft_pair_s: float
+    fft_size: int
+    elements_per_pillar: int
+    estimate_s: float
+    how: str
+
+
+def plan(spec, retry_failed: bool = False) -> Plan:
+    """The jobs of ``spec`` still to run in its output file, and their estimated cost.
+
+    The estimate is the measured mean per job of the finished jobs when there are any, else
+    the cost model of :mod:`fibril_hpc.campaign.plan.estimate`.
+    """
+    jobs = spec.jobs if spec.auto is None else [    # F_P: auto: its round 0 only
+        j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
+    todo = {j.key for j in jobs}
+    done = failed = 0
+    walls = []
+    if os.path.exists(spec.output):
+        try:
+            _, recs, _ = read_records(spec.output, curves=False)
+        except StoreError:
+            recs = {}
+        for k, r in recs.items():
+            if r.get("status") == "done":
+                done += k in todo
+                walls.append(float(r.get("wall_s", 0.0)) / max(1, int(r.get("group_size", 1))))
+                todo.discard(k)
+            elif r.get("status") == "failed":
+                failed += k in todo
+                if not retry_failed:
+                    todo.discard(k)
+    if spec.auto is None:
+        tasks = spec.tasks(todo)
+    else:
+        tasks = [spec.auto_task(p, [j.preload for j in t.jobs if j.key in todo])
+                 for p in spec.paths()
+                 for t in [spec.auto_task(p, spec.auto.start)]
+                 if any(j.key in todo for j in t.jobs)]
+    pair_s, m, epp = fft_pair_seconds(spec.base)
+    est = sum(task_seconds(t.scene, pair_s, epp) for t in tasks)
+    how = "model"
+    if walls:
+        est = sum(walls) / len(walls) * len(todo)
+        how = f"measured mean of {len(walls)} finished jobs"
+    return Plan(done=done, failed=failed, to_run=todo, tasks=tasks, fft_pair_s=pair_s,
+                fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how)
+
+
+__all__ = ["file_status", "FileStatus", "plan", "Plan"]

@@ -1,0 +1,8 @@
+"""Grid and planning: what a campaign is and what it runs next.
+
+Owns :mod:`.spec` (grid YAML -> validated :class:`~.spec.CampaignSpec` -> jobs with stable
+keys), :mod:`.auto` (``F_P: auto``: the preloads a loading path gets, round by round) and
+:mod:`.estimate` (the ``--dry-run`` cost model).
+
+May import: :mod:`fibril_hpc.campaign.laws` and the core (inputs and below).
+"""

@@ -1,0 +1,85 @@
+"""A rough cost estimate for ``--dry-run`` (no job runs).
+
+cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid) x
+``OVERHEAD[preset]``. Seconds per pair are timed here on the campaign's own grid (about a second,
+CPU time); ``OVERHEAD`` is the all-in CPU per pair of a whole path over the bare pair (CG, event
+search, local cascades, the coarse level).
+Pairs per task are modelled per pillar per sqrt(element per pillar) as
+
+    PRESET_FACTOR[preset] x (PAIRS_LOADING + PAIRS_UNLOADING x sum_i min(1, F~_P,i / F_FULL)^(1/3))
+
+(a loading path, then one unloading per preload, whose cost grows with the contact the preload
+makes, slower than in proportion: small preloads still meet every event of their first contacts;
+a ``d_tilde`` preload counts as a full one). Fitted to measured paths of this solver (local
+cascades, one thread, benchmarks/NOTES.md "Dry-run model"): at the `default` preset the default
+18 x 18 scene (one preload, F~_P = 4) and the paper grid's corners with the fixed twelve-preload
+list (0.05 ... 6.5) and with ``F_P: auto`` (round 0: 0.001 ... 4); `fast` and `accurate` from the
+same paths' ratio. Those fits were made with block Jacobi alone; what ``auto`` now does
+(``two_level`` at `fast`, ``moments`` at `default` and `accurate` on 18 x 18, the direction
+solved to 100 x cg_tol, the moment trust test) scales them by ``PRESET_FACTOR``, refitted on
+the paper grid's eight sampled ``F_P: auto`` paths at `default` (measured pairs 0.57x the
+previous fit of 0.55: 0.31), its four corners at `fast` (0.82x of 0.25) and at `accurate`
+(benchmarks/NOTES.md §26). Expect up to ~2x either way on
+single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones dearer), less
+on a whole grid. When the output file already
+holds finished jobs, their measured mean wall time per task is used instead.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ...elastic.halfspace import HalfSpace
+from ...geometry.grid import Lattice, build_pillar_grid
+
+#: FFT pairs per pillar per sqrt(element per pillar) of the loading path of a task
+PAIRS_LOADING = 2.9
+#: ... and of one unloading from a preload that makes full contact
+PAIRS_UNLOADING = 1.6
+#: F~_P from which an unloading costs a full one (below it, as the cube root of F~_P / F_FULL)
+F_FULL = 4.0
+#: work of a preset relative to the block-Jacobi fit above, under the ``auto`` preconditioner
+#: (looser tolerances and coarser batching at `fast`; the coarse levels everywhere)
+PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
+#: all-in CPU per FFT pair of a path over the bare timed pair, per preset (the means measured on
+#: the paper grid's sampled paths: 3.0 at `fast`, 2.8 at `default` (2.0-3.7), 2.3 at `accurate`;
+#: the pair is cheap since its column stage runs in cache, so the rest weighs more)
+OVERHEAD = {"fast": 3.0, "default": 2.8, "accurate": 2.3}
+
+
+def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
+    """(seconds per FFT pair, FFT size, elements per pillar) timed on ``scene``'s grid."""
+    lat = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice)
+    fp = lat.footprint
+    grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter,
+                             scene.sigma_tilde * lat.scaling(scene.work_of_adhesion).d_c,
+                             scene.seed, lattice=scene.lattice)
+    op = HalfSpace.from_options(grid.geometry, scene.solver)
+    p = np.ones(grid.geometry.n_active)
+    out = np.empty_like(p)
+    op.apply(p, out)
+    # CPU time, best of 3 blocks: the estimate is in core-hours, and wall time on a shared
+    # machine inflated it (3.9 ms instead of 1.4 ms per pair at load 3-5)
+    best = math.inf
+    for _ in range(3):
+        t0 = time.process_time()
+        for _ in range(repeats):
+            op.apply(p, out)
+        best = min(best, (time.process_time() - t0) / repeats)
+    return best, op.m, len(fp)
+
+
+def task_pairs(scene, elements_per_pillar: int) -> float:
+    """Modelled FFT pairs of one task: ``scene`` with its preloads (see the module docstring)."""
+    weights = ([min(1.0, f / F_FULL) ** (1 / 3) for f in scene.F_P] if scene.F_P is not None
+               else [1.0] * len(scene.d_tilde or ()))
+    per = PRESET_FACTOR.get(scene.preset, 1.0) * (PAIRS_LOADING + PAIRS_UNLOADING * sum(weights))
+    return per * scene.n_side ** 2 * math.sqrt(elements_per_pillar)
+
+
+def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
+    """Modelled CPU seconds of one task (``scene`` with its preloads)."""
+    return task_pairs(scene, elements_per_pillar) * pair_s * OVERHEAD.get(scene.preset, OVERHEAD["default"])

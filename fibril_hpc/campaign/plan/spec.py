@@ -1,0 +1,398 @@
+"""Campaign grid YAML -> validated :class:`CampaignSpec` -> jobs with stable keys.
+
+A grid YAML is a mapping::
+
+    output: results.h5          # relative to the folder of the YAML file
+    scene:                      # fixed scene fields (any Scene field except the swept ones)
+      n_side: 18
+      solver: {fft_threads: 1, max_wall_s: 3600}
+    k_tilde: [1, 0.1, 0.01]     # number or list
+    sigma_tilde: [0.1, 0.5]     # number or list
+    F_P: [0.5, 1, 2, 4]         # or d_tilde: [...]; number or list; or auto (see .auto)
+    seeds: 10                   # a count (seeds 0..9) or a list of seeds
+    group_preloads: true        # jobs sharing (k_tilde, sigma_tilde, seed) share one loading path
+    sweep:                      # optional: lab-scene fields swept like the others (lists)
+      k_machine: [.inf, 1, 0.1]
+      tip_radius: [1, 4]
+      heights: [gaussian, array_a.csv, array_b.npy]   # laws and/or measured files
+
+Every combination (k_tilde, sigma_tilde, preload, seed and the ``sweep`` values) is one job; a
+swept lab field's value is in the job's stored scene (``scene_yaml``). A measured ``heights``
+or stiffness (``k_law``) file, in ``scene`` or among the swept values, is read once, relative to
+the YAML's folder; the job's scene keeps its values and, in ``heights_source``/``k_source``,
+its name and SHA-256.
+
+A job's key is the first 16 hex digits of the SHA-256 of its resolved single-preload scene
+(canonical JSON of the fields that differ from their defaults, plus k_tilde, sigma_tilde, seed
+and the preload; without the resource and cap options ``solver.fft_threads``,
+``solver.max_wall_s``, ``solver.max_events``), so keys do not depend on the order of the lists,
+on other jobs, or on scene fields added later. The campaign hash is the SHA-256 of the sorted job
+keys: two grids with the same set of jobs have the same hash.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from dataclasses import dataclass, field, fields
+
+import yaml
+
+from ...errors import ConfigError
+from ...inputs.config import read_yaml
+from ...inputs.heights import is_file as is_height_file
+from ...inputs.heights import read_file as read_height_file
+from ...inputs.limits import check_job_count
+from ...inputs.ranges import range_of
+from ...inputs.scene import Scene, SolverOptions, scene_from_dict
+from .auto import parse, settings_hash
+
+SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
+TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
+            "group_preloads", "description", "sweep")
+#: scene fields a grid may sweep under ``sweep:`` (the lab fields of :class:`Scene`)
+SWEEPABLE = tuple(f.name for f in fields(Scene) if f.metadata.get("extra") and f.metadata["key"])
+#: scene fields that never enter a job key (provenance only, e.g. a height file's name)
+KEY_EXCLUDED_SCENE = tuple(f.name for f in fields(Scene) if f.metadata.get("key") is False)
+#: solver options that limit resources but do not define a result (left out of job keys):
+#: the ``resource`` options of :class:`~fibril_hpc.inputs.scene.SolverOptions`
+KEY_EXCLUDED_SOLVER = SolverOptions.of_kind("resource")
+
+
+@dataclass(frozen=True)
+class Job:
+    """One (k_tilde, sigma_tilde, preload, seed) combination."""
+
+    key: str
+    index: int
+    k_tilde: float
+    sigma_tilde: float
+    preload_kind: str
+    preload: float
+    seed: int
+    extra: tuple = ()       # ((field, value), ...) of the grid's ``sweep`` (empty without one)
+
+    def inputs(self) -> dict:
+        """The job's identity fields, as stored in its record."""
+        return {"key": self.key, "k_tilde": self.k_tilde, "sigma_tilde": self.sigma_tilde,
+                "preload_kind": self.preload_kind, "preload": self.preload, "seed": self.seed}
+
+
+@dataclass(frozen=True)
+class Task:
+    """Jobs run by one ``simulate`` call (one loading path); ``jobs`` in ascending preload."""
+
+    jobs: tuple
+    scene: Scene
+
+    @property
+    def keys(self):
+        """Keys of the task's jobs."""
+        return [j.key for j in self.jobs]
+
+
+@dataclass
+class CampaignSpec:
+    """A validated campaign grid: the base scene, the swept values, the output and the jobs."""
+
+    base: Scene
+    k_tilde: tuple
+    sigma_tilde: tuple
+    preload_kind: str
+    preloads: tuple
+    seeds: tuple
+    group_preloads: bool
+    output: str
+    source: str = ""
+    description: str = ""
+    jobs: list = field(default_factory=list)
+    #: ``F_P: auto`` settings (:class:`.auto.AutoPreloads`), None for a fixed preload list
+    auto: object = None
+    sweep: dict = field(default_factory=dict)      # field -> tuple of values (``sweep:``)
+
+    # ------------------------------------------------------------------ identity
+    def resolved(self) -> dict:
+        """The resolved campaign as a plain mapping (what the HDF5 file stores as YAML)."""
+        scene = self.base.to_dict()
+        for k in SWEPT:
+            scene.pop(k, None)
+        pre = list(self.preloads) if self.auto is None else {"auto": self.auto.to_dict()}
+        out = {"description": self.description, "scene": scene,
+               "k_tilde": list(self.k_tilde), "sigma_tilde": list(self.sigma_tilde),
+               self.preload_kind: pre, "seeds": list(self.seeds),
+               "group_preloads": self.group_preloads}
+        if self.sweep:
+            out["sweep"] = {k: list(v) for k, v in self.sweep.items()}
+        return out
+
+    def resolved_yaml(self) -> str:
+        """The resolved campaign as YAML (stored in the file as ``campaign_yaml``)."""
+        return yaml.safe_dump(self.resolved(), sort_keys=False)
+
+    @property
+    def campaign_hash(self) -> str:
+        """SHA-256 of the sorted job keys; with ``F_P: auto`` (jobs chosen while it runs) of the
+        sorted path keys ``auto:<settings hash>:<key of the path's scene at F_P = 1>``."""
+        if self.auto is None:
+            return campaign_hash_of(j.key for j in self.jobs)
+
+        h = settings_hash(self.auto)
+        return campaign_hash_of(f"auto:{h}:{self.path_key(p)}" for p in self.paths())
+
+    # ------------------------------------------------------------------ F_P: auto
+    def paths(self) -> list:
+        """The loading paths (k_tilde, sigma_tilde, seed), in grid order."""
+        return [(k, s, seed) for k in self.k_tilde for s in self.sigma_tilde for seed in self.seeds]
+
+    def path_key(self, path) -> str:
+        """Key of the path's scene at F_P = 1 (its identity in an auto grid's campaign hash)."""
+        k, s, seed = path
+        return job_key(self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed, F_P=(1.0,)))
+
+    def auto_task(self, path, preloads) -> Task:
+        """One round of an ``F_P: auto`` path: a task with one ordinary job per preload."""
+        k, s, seed = path
+        base_index = self.paths().index(path) * 1000
+        jobs = []
+        for i, p in enumerate(sorted(preloads)):
+            job = Job("", base_index + i, k, s, "F_P", p, seed)
+            jobs.append(Job(job_key(self.job_scene(job)), job.index, k, s, "F_P", p, seed))
+        scene = self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed,
+                                  F_P=tuple(j.preload for j in jobs))
+        return Task(tuple(jobs), scene)
+
+    # ------------------------------------------------------------------ jobs
+    def job_scene(self, job: Job) -> Scene:
+        """The single-preload scene of one job (what its key is computed from)."""
+        return self.base.replace(k_tilde=job.k_tilde, sigma_tilde=job.sigma_tilde, seed=job.seed,
+                                 **{self.preload_kind: (job.preload,)}, **dict(job.extra))
+
+    def tasks(self, keys=None) -> list:
+        """Tasks for the jobs whose key is in ``keys`` (all when None), in grid order, grouped
+        by (k_tilde, sigma_tilde, seed) when ``group_preloads``."""
+        want = None if keys is None else set(keys)
+        jobs = [j for j in self.jobs if want is None or j.key in want]
+        groups: dict = {}
+        for j in jobs:
+            g = (j.k_tilde, j.sigma_tilde, j.seed, j.extra) if self.group_preloads else (j.key,)
+            groups.setdefault(g, []).append(j)
+        out = []
+        for js in groups.values():
+            js = sorted(js, key=lambda j: j.preload)
+            scene = self.base.replace(k_tilde=js[0].k_tilde, sigma_tilde=js[0].sigma_tilde,
+                                      seed=js[0].seed,
+                                      **{self.preload_kind: tuple(j.preload for j in js)},
+                                      **dict(js[0].extra))
+            out.append(Task(tuple(js), scene))
+        return out
+
+
+def campaign_hash_of(keys) -> str:
+    """SHA-256 (hex) of a set of job keys, independent of their order."""
+    return hashlib.sha256("\n".join(sorted(keys)).encode()).hexdigest()
+
+
+def job_key(scene: Scene) -> str:
+    """Stable key of a single-preload scene: fields at their default value are left out, so a
+    field added to Scene later (with a default) does not change existing keys."""
+    d = scene.to_dict()
+    dflt = Scene().to_dict()
+    solver = {k: v for k, v in d.pop("solver").items()
+              if k not in KEY_EXCLUDED_SOLVER and v != dflt["solver"].get(k, object())}
+    d = {k: v for k, v in d.items() if k not in KEY_EXCLUDED_SCENE and (
+         k in ("k_tilde", "sigma_tilde", "seed", "d_tilde", "F_P") or v != dflt.get(k, object()))}
+    d["solver"] = solver
+    text = json.dumps(d, sort_keys=True, allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _values(name, v):
+    """A number or a list of numbers in the range of Scene field ``name`` (order kept)."""
+    rng = range_of(Scene, name)
+    allowed = rng.allowed(plural=True)
+    items = list(v) if isinstance(v, (list, tuple)) else [v]
+    if not items:
+        raise ConfigError(name, v, allowed)
+    out = []
+    for item in items:
+        if isinstance(item, bool) or not isinstance(item, (int, float, str)):
+            raise ConfigError(name, item, allowed)
+        try:
+            x = float(item)
+        except ValueError:
+            raise ConfigError(name, item, allowed) from None
+        if math.isnan(x) or not rng.contains(x):
+            raise ConfigError(name, item, allowed)
+        out.append(x)
+    if len(set(out)) != len(out):
+        raise ConfigError(name, v, allowed + " (no duplicates)")
+    return tuple(out)
+
+
+def _sweep(v) -> dict:
+    """The ``sweep:`` mapping: lab field -> non-empty list of distinct values (each value is
+    checked when the jobs' scenes are built)."""
+    if v is None:
+        return {}
+    if not isinstance(v, dict):
+        raise ConfigError("sweep", v, "a mapping of " + ", ".join(SWEEPABLE) + " to lists")
+    out = {}
+    for name, values in v.items():
+        if name not in SWEEPABLE:
+            raise ConfigError(f"sweep.{name}", values, "a sweepable field: " + ", ".join(SWEEPABLE))
+        items = list(values) if isinstance(values, list) else [values]
+        if not items or len({repr(x) for x in items}) != len(items):
+            raise ConfigError(f"sweep.{name}", values, "a value or a non-empty list of distinct "
+                              "values")
+        out[name] = tuple(items)
+    return out
+
+
+#: lab fields whose value may be a measured file, and the field that records its name and hash
+FILE_FIELDS = {"heights": "heights_source", "k_law": "k_source"}
+
+
+def _sweep_files(sweep: dict, base: Scene, base_dir: str) -> dict:
+    """{(field, value): ((field, values), (source field, "path sha256:...")), ...} for the swept
+    values of a field that takes files: each file read once, relative to the YAML's folder, and
+    its count checked here, so a bad file is one line naming ``sweep.<field>`` and the file; a
+    law (not a file) clears the source a measured file of the base scene left."""
+    out = {}
+    n = base.n_side**2
+    for name, src in FILE_FIELDS.items():
+        for item in sweep.get(name, ()):
+            if not isinstance(item, str):
+                continue                    # checked with the job's scene
+            if not is_height_file(item):
+                out[(name, item)] = ((name, item), (src, ""))
+                continue
+            path = os.path.join(base_dir, os.path.expanduser(item))
+            try:
+                values, source = read_height_file(path, name)
+            except ConfigError as exc:
+                raise ConfigError(f"sweep.{name}", item, exc.allowed) from None
+            if len(values) != n:
+                raise ConfigError(f"sweep.{name}", item, f"one value per pillar: n_side**2 = {n} "
+                                  f"(the file holds {len(values)})")
+            out[(name, item)] = ((name, values), (src, source))
+    return out
+
+
+def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSpec:
+    """Validate a grid mapping; every problem is a one-line :class:`ConfigError`."""
+    if not isinstance(data, dict):
+        raise ConfigError("campaign", data, "a mapping with output, scene, k_tilde, sigma_tilde, "
+                          "d_tilde or F_P, seeds")
+    unknown = sorted(set(map(str, data)) - set(TOP_KEYS))
+    if unknown:
+        raise ConfigError(unknown[0], data.get(unknown[0]), "a known key: " + ", ".join(TOP_KEYS))
+    out = data.get("output")
+    if not isinstance(out, str) or not out.strip() or not out.endswith((".h5", ".hdf5")):
+        raise ConfigError("output", out, "a file name ending in .h5 (relative to the YAML's folder)")
+    output = os.path.normpath(os.path.join(base_dir, os.path.expanduser(out)))
+    scene_map = data.get("scene") or {}
+    if not isinstance(scene_map, dict):
+        raise ConfigError("scene", scene_map, "a mapping of fixed scene fields")
+    for k in scene_map:
+        if k in SWEPT:
+            allowed = "set at the top level" + (" as seeds" if k == "seed" else f" as {k}")
+            raise ConfigError(f"scene.{k}", scene_map[k], allowed + " (it is swept)")
+    scene_map = dict(scene_map)
+    for key in ("heights", "k_law"):          # measured files: relative to the YAML's folder
+        if is_height_file(scene_map.get(key)):
+            scene_map[key] = os.path.join(base_dir, os.path.expanduser(scene_map[key]))
+    base = scene_from_dict(scene_map, where="scene.")
+    sweep = _sweep(data.get("sweep"))
+    for name in ("k_tilde", "sigma_tilde"):
+        if name not in data:
+            raise ConfigError(name, None, "a number or a list of numbers (required)")
+    ks = _values("k_tilde", data["k_tilde"])
+    ss = _values("sigma_tilde", data["sigma_tilde"])
+    if ("d_tilde" in data) == ("F_P" in data):
+        raise ConfigError("F_P", data.get("F_P"), "give either F_P or d_tilde (one of them)")
+    kind = "F_P" if "F_P" in data else "d_tilde"
+    auto = None
+    if kind == "F_P" and (data["F_P"] == "auto" or isinstance(data["F_P"], dict)):
+        auto = parse(data["F_P"])
+        pre = ()
+    else:
+        try:
+            pre = _values(kind, data[kind])
+        except ConfigError as exc:
+            if kind != "F_P":
+                raise
+            raise ConfigError(exc.field, exc.value, exc.allowed + "; or auto, or "
+                              "{auto: {settings}} (README, 'Report')") from None
+    seeds_v = data.get("seeds", 1)
+    if isinstance(seeds_v, bool):
+        raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
+    if isinstance(seeds_v, int):
+        if not 1 <= seeds_v <= 100000:
+            raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
+        seeds = tuple(range(seeds_v))
+    elif isinstance(seeds_v, list) and seeds_v and all(
+            isinstance(s, int) and not isinstance(s, bool) and 0 <= s < 2**63 for s in seeds_v):
+        if len(set(seeds_v)) != len(seeds_v):
+            raise ConfigError("seeds", seeds_v, "a list of distinct integers >= 0")
+        seeds = tuple(seeds_v)
+    else:
+        raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
+    group = data.get("group_preloads", True)
+    if not isinstance(group, bool):
+        raise ConfigError("group_preloads", group, "true or false")
+    desc = data.get("description", "") or ""
+    if not isinstance(desc, str):
+        raise ConfigError("description", desc, "a text")
+    spec = CampaignSpec(base=base, k_tilde=ks, sigma_tilde=ss, preload_kind=kind, preloads=pre,
+                        seeds=seeds, group_preloads=group, output=output, source=source,
+                        description=desc, auto=auto, sweep=sweep)
+    counts = {"k_tilde": len(ks), "sigma_tilde": len(ss)}
+    if auto is None:
+        counts[kind] = len(pre)
+    counts["seeds"] = len(seeds)
+    counts.update({f"sweep.{name}": len(values) for name, values in sweep.items()})
+    check_job_count(counts)                  # before enumerating any job or path
+    if auto is not None:
+        if not group:
+            raise ConfigError("group_preloads", group, "true with F_P: auto (a round is one "
+                              "loading path)")
+        if sweep:
+            raise ConfigError("sweep", list(sweep), "no sweep with F_P: auto (give the preloads "
+                              "as a list, or one grid per swept value)")
+        for path in spec.paths():            # validates every path's scene now
+            spec.auto_task(path, auto.start[:1])
+        return spec
+    files = _sweep_files(sweep, base, base_dir)
+    extras = [()]
+    for name, values in sweep.items():
+        extras = [e + (files.get((name, v), ((name, v),)) if isinstance(v, str) else ((name, v),))
+                  for e in extras for v in values]
+    jobs = []
+    for extra in extras:
+        for k in ks:
+            for s in ss:
+                for seed in seeds:
+                    for p in pre:
+                        job = Job("", len(jobs), k, s, kind, p, seed, extra)
+                        # validates the combination exactly as the solver will see it
+                        try:
+                            scene = spec.job_scene(job)
+                        except ConfigError as exc:
+                            where = "sweep." if exc.field in sweep else ""
+                            raise ConfigError(where + exc.field, exc.value, exc.allowed) from None
+                        jobs.append(Job(job_key(scene), len(jobs), k, s, kind, p, seed, extra))
+    spec.jobs = jobs
+    return spec
+
+
+def load_spec(path: str, output: str | None = None) -> CampaignSpec:
+    """Read a grid YAML; ``output`` (a path relative to the working directory) overrides the
+    file's ``output`` (which is relative to the YAML's folder)."""
+    data = read_yaml(path, field="grid")
+    if isinstance(data, dict) and output is not None:
+        data = dict(data)
+        data["output"] = os.path.abspath(output)
+    base_dir = os.path.dirname(os.path.abspath(path))
+    return spec_from_dict(data, source=os.path.abspath(path), base_dir=base_dir)

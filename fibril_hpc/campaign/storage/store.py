@@ -1,0 +1,265 @@
+"""The campaign HDF5 file (with :mod:`fibril_hpc.io.store`, the only h5py importers).
+
+Layout (open it with h5py; every number is dimensionless, see the ``definitions`` attribute)::
+
+    /  attrs: program, format_version, fibril_hpc_version, campaign_yaml (the resolved grid),
+              campaign_hash (SHA-256 of the sorted job keys), key_definition, definitions (JSON:
+              every normalisation), versions (JSON), layout (this text), created, updated,
+              n_jobs (jobs of the grid), extended_from (JSON list of earlier grids' hashes and
+              YAML), merged_from (JSON, after ``merge``)
+    /jobs/<key>/  attrs: key, record_id, campaign_hash, k_tilde, sigma_tilde, preload_kind,
+                         preload, seed, status ("done" or "failed"), message (the error),
+                         F_P, F_A, d_tilde_max, d_tilde_at_F_A, n_pillars_in_contact_max, events,
+                         wall_s, cg_iterations, cg_solves, fft_pairs (of the simulate call that
+                         computed the job; shared by its group_size jobs of one loading path),
+                         group_size, rank, host, finished (UTC), scene_yaml, discretisation (JSON),
+                         checksum ("sha256:..." of the record; absent in records written before
+                         checksums existed, see fibril_hpc/campaign/storage/integrity.py);
+                         only with a compliant machine (k_machine < inf; absent otherwise and in
+                         older records): k_machine, jumps, F_jump (tension at the jump-off of the
+                         final separation), d_machine_tilde_at_F_A
+        loading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact}   (load to F_P)
+        unloading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact} (pull-off)
+                  (+ d_machine_tilde, the machine's displacement, with a compliant machine)
+    /job_refs     object references to every /jobs/<key> (a second way to each record that
+                  survives damage to the link index of /jobs; used by ``salvage``)
+
+Crash safety: the published file is never opened for writing. A checkpoint reads it, adds the
+records to that image in memory (libhdf5 never writes to the disk), checks the free space,
+writes a temporary file beside it, ``fsync``-s and renames it into place; records finished since
+the last checkpoint live in ``<file>.journal`` (see :mod:`fibril_hpc.campaign.storage.journal`). So a
+SIGKILL at any moment leaves a file that opens, plus a journal that the next run (or reader)
+replays, and a full disk leaves the previous file. Readers never block the writer.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import glob
+import io
+import json
+import logging
+import os
+from dataclasses import dataclass
+
+import h5py
+import numpy as np
+
+from ..._version import __version__
+from ...errors import StoreError
+from ...geometry.grid import Lattice
+from ...io.files import write_bytes_atomically
+from ...io.results import json_safe, software_versions
+from ..plan.spec import KEY_EXCLUDED_SOLVER
+from . import integrity
+from . import journal as _journal
+from .h5read import (
+    PROGRAM,
+    REFS,
+    H5Read,
+    damaged_error,
+    read_h5_checked,
+    read_h5_records,
+    read_h5_salvage,
+    read_root,
+    warn_corrupt,
+)
+from .record import BRANCHES, CURVE_KEYS, OPTIONAL_CURVE_KEYS, SCALAR_KEYS
+
+log = logging.getLogger(__name__)
+
+FORMAT_VERSION = 1
+KEY_DEFINITION = ("first 16 hex digits of SHA-256 of the job's single-preload scene as canonical "
+                  "JSON (sorted keys) of k_tilde, sigma_tilde, seed, the preload and every field "
+                  "that differs from its default, without "
+                  + ", ".join("solver." + k for k in KEY_EXCLUDED_SOLVER))
+
+
+def now() -> str:
+    return _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
+
+
+def _write_references(fh, jobs) -> None:
+    """(Re)write ``/job_refs``: one object reference per job group, a second way to every
+    record that does not depend on the link index of ``/jobs``."""
+    if REFS in fh:
+        del fh[REFS]
+    names = list(jobs)
+    refs = np.empty(len(names), dtype=h5py.ref_dtype)
+    for i, k in enumerate(names):
+        refs[i] = jobs[k].ref
+    fh.create_dataset(REFS, data=refs, dtype=h5py.ref_dtype)
+
+
+def newer(new: dict, old: dict | None) -> bool:
+    """Whether record ``new`` replaces ``old`` for the same key: a done record is final."""
+    if old is None:
+        return True
+    if new.get("record_id") == old.get("record_id"):
+        return False
+    return old.get("status") != "done"
+
+
+def accepted_hashes(root: dict) -> set | None:
+    """Campaign hashes whose journal frames belong to the file with root attributes ``root``
+    (None when there is no file yet: the writer decides)."""
+    if not root:
+        return None
+    out = {root.get("campaign_hash")}
+    try:
+        out |= {h.get("campaign_hash") for h in json.loads(root.get("extended_from", "[]"))}
+    except (ValueError, TypeError, AttributeError):
+        pass
+    return {h for h in out if h}
+
+
+@dataclass
+class Snapshot:
+    """What a reader sees: root attrs, {key: record}, records only in the journal, corrupt
+    records of the HDF5 file, unchecked (pre-checksum) records, the journal scan."""
+
+    root: dict
+    records: dict
+    pending: int
+    corrupt: dict
+    unchecked: int
+    journal: object
+
+
+def read_snapshot(path: str, curves: bool = True) -> Snapshot:
+    """Journal + HDF5 file, as a reader sees them while a campaign runs. The journal bytes are
+    read first so that a checkpoint that happens in between cannot hide a record."""
+    jdata = _journal.read_bytes(_journal.journal_path(path))
+    got = read_h5_checked(path, curves)
+    warn_corrupt(path, got)
+    scan = _journal.scan(jdata, accepted_hashes(got.root))
+    msg = scan.message(_journal.journal_path(path))
+    if msg:
+        log.warning("%s", msg)
+    recs = got.records
+    pending = 0
+    for _, _, r in scan.records:
+        r = dict(r)
+        r.pop("type", None)
+        if newer(r, recs.get(r["key"])):
+            if not curves:
+                r.pop("loading", None)
+                r.pop("unloading", None)
+            recs[r["key"]] = r
+            pending += 1
+    return Snapshot(got.root, recs, pending, got.corrupt, got.unchecked, scan)
+
+
+def read_records(path: str, curves: bool = True) -> tuple[dict, dict, int]:
+    """(root attrs, {key: record}, number of records still only in the journal)."""
+    s = read_snapshot(path, curves)
+    return s.root, s.records, s.pending
+
+
+def write_record(jobs, rec: dict) -> None:
+    """Write one record (sealed with its checksum) as ``jobs/<key>``, replacing an older one."""
+    key = rec["key"]
+    if key in jobs:
+        del jobs[key]
+    stored = {k: rec[k] for k in SCALAR_KEYS if k in rec and rec[k] is not None}
+    for branch in BRANCHES:
+        c = rec.get(branch)
+        stored[branch] = None if c is None else {
+            k: np.asarray(c[k]) for k in CURVE_KEYS + OPTIONAL_CURVE_KEYS
+            if k in CURVE_KEYS or c.get(k) is not None}
+    stored = integrity.seal(stored)
+    g = jobs.create_group(key)
+    for k, v in stored.items():
+        if k not in BRANCHES:
+            g.attrs[k] = v
+    for branch in BRANCHES:
+        c = stored[branch]
+        if c is not None:
+            cg = g.create_group(branch)
+            for k in c:
+                cg.create_dataset(k, data=c[k])
+
+
+def clean_temporaries(path: str) -> None:
+    """Remove checkpoint temporaries left by a killed writer (call while holding the lock)."""
+    folder = os.path.dirname(os.path.abspath(path)) or "."
+    for tmp in glob.glob(os.path.join(folder, "." + os.path.basename(path) + ".ckpt-*")):
+        try:
+            os.unlink(tmp)
+        except OSError:  # pragma: no cover
+            pass
+
+
+def checkpoint(path: str, root_attrs: dict, records, drop=()) -> None:
+    """Publish ``records`` into ``path`` atomically, leaving out the job groups ``drop``
+    (corrupt ones: never republished).
+
+    The new file is built in memory (libhdf5 never writes to disk, so a full disk cannot crash
+    it), then written to a temporary file beside ``path`` after a free-space check, ``fsync``-ed
+    and renamed into place. ``root_attrs`` are (re)set; the file's other content is kept.
+    ENOSPC/EDQUOT becomes :class:`DiskFull`.
+    """
+    buf = io.BytesIO()
+    try:
+        if os.path.exists(path):
+            with open(path, "rb") as fh:
+                buf.write(fh.read())
+        mode = "a" if buf.tell() else "w"
+    except OSError as exc:
+        raise StoreError(f"cannot read {path} for a checkpoint: {exc}") from None
+    try:
+        with h5py.File(buf, mode) as fh:
+            if mode == "w":
+                fh.attrs["created"] = now()
+                fh.attrs["program"] = PROGRAM
+            jobs = fh.require_group("jobs")
+            for key in drop:
+                if key in jobs:
+                    del jobs[key]
+            for rec in records:
+                write_record(jobs, rec)
+            _write_references(fh, jobs)
+            for k, v in root_attrs.items():
+                fh.attrs[k] = v
+            fh.attrs["updated"] = now()
+    except (OSError, RuntimeError, KeyError, ValueError) as exc:
+        raise damaged_error(path, exc) from None
+    write_bytes_atomically(path, buf.getbuffer(), "checkpoint copy",
+                           "." + os.path.basename(path) + ".ckpt-")
+
+
+def root_attrs_for(spec, extended_from=None) -> dict:
+    """Root attributes describing a campaign spec."""
+    b = spec.base
+    scaling = Lattice.of(b.n_side, b.phi, b.elements_per_diameter, b.lattice).scaling(
+        b.work_of_adhesion)
+    defs = dict(scaling.definitions())
+    defs["F_A"] = "pull-off force: -min F over the unloading branch, / F_c"
+    defs["F_P"] = "force at the end of loading (the preload reached), / F_c"
+    defs["contact_fraction"] = "attached area / total pillar-tip area"
+    return {
+        "program": PROGRAM,
+        "format_version": FORMAT_VERSION,
+        "fibril_hpc_version": __version__,
+        "campaign_yaml": spec.resolved_yaml(),
+        "campaign_hash": spec.campaign_hash,
+        "key_definition": KEY_DEFINITION,
+        "definitions": json.dumps(json_safe(defs), sort_keys=True),
+        "versions": json.dumps(json_safe(software_versions()), sort_keys=True),
+        "layout": __doc__,
+        "n_jobs": len(spec.jobs),
+        "extended_from": json.dumps(extended_from or []),
+    }
+
+
+def write_merged(path: str, root_attrs: dict, records) -> None:
+    """Write a new file (atomically) holding ``records`` (used by ``merge``)."""
+    if os.path.exists(path):
+        raise StoreError(f"{path} exists; choose a new output name")
+    checkpoint(path, root_attrs, records)
+
+
+__all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",
+           "read_snapshot", "checkpoint", "root_attrs_for", "write_merged", "write_record",
+           "clean_temporaries", "newer", "accepted_hashes", "H5Read",
+           "Snapshot", "PROGRAM", "REFS"]

@@ -1,0 +1,200 @@
+"""The only writer of a campaign file: :class:`CampaignWriter`.
+
+It holds the lock, checks that the file belongs to this grid, replays the journal of a killed
+run, appends each finished record to the journal and folds the journal into the HDF5 file at
+checkpoints (see :mod:`.store` and :mod:`.journal`).
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import logging
+import os
+import time
+
+from ...errors import FULL_ERRNOS, ConfigError, DiskFull, StoreError
+from ...io.files import check_writable
+from . import journal as _journal
+from . import store
+
+log = logging.getLogger(__name__)
+
+class CampaignWriter:
+    """The only writer of a campaign file: lock, identity check, journal replay, checkpoints.
+
+    Parameters
+    ----------
+    spec : CampaignSpec
+    extend : bool
+        Accept a file written from another grid; its records are kept and this grid's jobs added.
+    checkpoint_s : float
+        Fold the journal into the HDF5 file at most this often (and at the end).
+    """
+
+    def __init__(self, spec, *, extend: bool = False, checkpoint_s: float = 30.0):
+        self.spec = spec
+        # the resolved path: a second writer through a symlink (or another spelling) meets
+        # the same lock, and a checkpoint replaces the file, not the symlink
+        self.path = os.path.realpath(spec.output)
+        self.checkpoint_s = checkpoint_s
+        check_writable(self.path, "output")
+        extended_from = self._check_identity(extend)   # before anything is written
+        self._lock_fd = os.open(self.path + ".lock", os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(self._lock_fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(self._lock_fd)
+            raise ConfigError("output", self.path,
+                              "a file that no other running campaign is writing (it is locked)") \
+                from None
+        try:
+            self._open(spec, extend, extended_from)
+        except BaseException:
+            if getattr(self, "journal", None) is not None:
+                self.journal.close()
+            self._unlock()
+            raise
+
+    def _open(self, spec, extend, extended_from):
+        store.clean_temporaries(self.path)
+        self.root_attrs = store.root_attrs_for(spec, extended_from)
+        got = store.read_h5_checked(self.path, curves=False)
+        self.records = {k: {"status": r.get("status"), "record_id": r.get("record_id")}
+                        for k, r in got.records.items()}
+        #: corrupt records of the file: recomputed, and left out of every checkpoint
+        self.corrupt = set(got.corrupt)
+        corrupt = sorted(self.corrupt)
+        accept = store.accepted_hashes(got.root)
+        if accept is not None:
+            accept.add(spec.campaign_hash)
+        elif not extend:
+            accept = {spec.campaign_hash}
+        jpath = _journal.journal_path(self.path)
+        try:
+            self.journal = _journal.JournalWriter(jpath, accept)
+        except OSError as exc:            # e.g. no room to quarantine a damaged stretch
+            if exc.errno in FULL_ERRNOS:
+                raise DiskFull(jpath, "opening the journal", exc.strerror) from None
+            raise StoreError(f"cannot open the journal {jpath}: {exc}") from None
+        self._unpublished = []
+        for r in self.journal.replayed:
+            if r.get("type") == "job":
+                self._remember(r)
+        self.journal.replayed = None
+        self._last_ckpt = time.monotonic()
+        self.checkpoint(force=True)        # drops the corrupt records (or fails: one line)
+        if corrupt:
+            log.warning("%s: %d corrupt record(s) (%s%s) will be recomputed; they were not "
+                        "republished", self.path, len(corrupt), ", ".join(corrupt[:3]),
+                        " ..." if len(corrupt) > 3 else "")
+
+    def _check_identity(self, extend: bool):
+        if os.path.exists(self.path):
+            try:
+                root = store.read_root(self.path)
+            except StoreError as exc:
+                raise ConfigError("output", self.path,
+                                  f"a fibril-hpc campaign file or a new name ({exc})") from None
+            prev = root.get("campaign_hash")
+            history = []
+            try:
+                history = json.loads(root.get("extended_from", "[]"))
+            except ValueError:
+                history = []
+            if prev != self.spec.campaign_hash:
+                if not extend:
+                    raise ConfigError(
+                        "output", self.path,
+                        f"a file of this grid: it holds campaign {str(prev)[:12]} from another grid"
+                        f" (this grid is {self.spec.campaign_hash[:12]}); pass --extend to add "
+                        "this grid's jobs to it, or choose another output")
+                history.append({"campaign_hash": prev, "campaign_yaml": root.get("campaign_yaml")})
+            return history
+        jrecs, _ = _journal.read(_journal.journal_path(self.path))
+        hashes = {r.get("campaign_hash") for r in jrecs if r.get("type") == "job"}
+        other = hashes - {self.spec.campaign_hash}
+        if other and not extend:
+            raise ConfigError("output", self.path,
+                              "a file of this grid: its journal holds records of another grid; "
+                              "pass --extend to keep them")
+        return []
+
+    def _remember(self, rec):
+        old = self.records.get(rec["key"])
+        if store.newer(rec, old):
+            self.records[rec["key"]] = {"status": rec["status"], "record_id": rec["record_id"]}
+            self._unpublished.append(rec)
+
+    # -------------------------------------------------------------- queries
+    def keys_to_run(self, retry_failed: bool) -> list:
+        """Keys of the grid's jobs without a record (and, with ``retry_failed``, the failed ones)."""
+        out = []
+        for j in self.spec.jobs:
+            r = self.records.get(j.key)
+            if r is None or (retry_failed and r["status"] != "done"):
+                out.append(j.key)
+        return out
+
+    def counts(self) -> dict:
+        """Jobs of the grid: total, done, failed and pending."""
+        keys = {j.key for j in self.spec.jobs}
+        done = sum(1 for k in keys if self.records.get(k, {}).get("status") == "done")
+        failed = sum(1 for k in keys if self.records.get(k, {}).get("status") == "failed")
+        return {"jobs": len(keys), "done": done, "failed": failed,
+                "pending": len(keys) - done - failed}
+
+    # -------------------------------------------------------------- writing
+    def add(self, records) -> None:
+        """Journal ``records`` (durably) and checkpoint when due. A full disk raises
+        :class:`~fibril_hpc.errors.DiskFull` naming the journal."""
+        for rec in records:
+            try:
+                self.journal.append(rec)
+            except OSError as exc:
+                if exc.errno in FULL_ERRNOS:
+                    raise DiskFull(self.journal.path, "appending to the journal",
+                                   exc.strerror) from None
+                raise StoreError(f"cannot append to {self.journal.path}: {exc}") from None
+            self._remember(rec)
+        self.checkpoint()
+
+    def checkpoint(self, force: bool = False) -> None:
+        """Fold the journal into the HDF5 file (at most every ``checkpoint_s`` unless ``force``)."""
+        if not force and (not self._unpublished
+                          or time.monotonic() - self._last_ckpt < self.checkpoint_s):
+            return
+        recs = []
+        for r in self._unpublished:
+            r = dict(r)
+            r.pop("type", None)
+            recs.append(r)
+        t0 = time.monotonic()
+        store.checkpoint(self.path, self.root_attrs, recs, drop=self.corrupt)
+        self.corrupt = set()
+        self.journal.reset()
+        self._unpublished = []
+        self._last_ckpt = time.monotonic()
+        # a checkpoint copies the file: keep its cost below ~10 % of the run however big it gets
+        self.checkpoint_s = max(self.checkpoint_s, 10.0 * (self._last_ckpt - t0))
+
+    def close(self) -> None:
+        """Publish what is left, then release the journal and the lock (always, even when the
+        last checkpoint fails: its records stay safe in the journal)."""
+        try:
+            self.checkpoint(force=bool(self._unpublished or self.corrupt))
+        finally:
+            self.journal.close()
+            self._unlock()
+
+    def _unlock(self) -> None:
+        if self._lock_fd is None:
+            return
+        try:
+            fcntl.flock(self._lock_fd, fcntl.LOCK_UN)
+        finally:
+            os.close(self._lock_fd)
+            self._lock_fd = None
+
+
+__all__ = ["CampaignWriter"]

@@ -1,0 +1,66 @@
+"""YAML -> validated :class:`~fibril_hpc.inputs.scene.Scene`; built-in scenes.
+
+A scene file is a mapping of scene fields (see :class:`~fibril_hpc.inputs.scene.Scene`) with an optional
+``solver:`` mapping. Unknown keys are rejected; nothing in the working directory changes numerics
+implicitly.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import yaml
+
+from ..errors import ConfigError
+from .heights import is_file as is_height_file
+from .scene import Scene, scene_from_dict
+
+#: Built-in scenes for ``fibril-run --builtin NAME``.
+BUILTIN_SCENES = {
+    "default": {},
+    "quick": {"n_side": 6, "k_tilde": 0.01, "sigma_tilde": 0.5, "F_P": [1.0, 2.0],
+              "elements_per_diameter": 6},
+    "single-pillar": {"n_side": 1, "k_tilde": math.inf, "sigma_tilde": 0.0, "d_tilde": 1.0,
+                      "elements_per_diameter": 16},
+}
+
+
+def read_yaml(path: str, field: str = "scene") -> object:
+    """Parse a YAML file; any I/O or syntax problem becomes a one-line ConfigError."""
+    if not os.path.isfile(path):
+        raise ConfigError(field, path, "an existing YAML file")
+    try:
+        with open(path, encoding="utf-8") as fh:
+            return yaml.safe_load(fh)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}" if mark is not None else ""
+        raise ConfigError(field, path, f"valid YAML (parse error{where})") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(field, path, f"a readable UTF-8 file ({exc.__class__.__name__})") from None
+
+
+def load_scene(path: str) -> Scene:
+    """Read and validate a scene YAML file."""
+    data = read_yaml(path)
+    if data is None:
+        data = {}
+    for key in ("heights", "k_law"):
+        if isinstance(data, dict) and is_height_file(data.get(key)):
+            # a measured height/stiffness file is named relative to the scene file's folder
+            data = {**data, key: os.path.join(os.path.dirname(os.path.abspath(path)),
+                                              os.path.expanduser(data[key]))}
+    return scene_from_dict(data)
+
+
+def builtin_scene(name: str) -> Scene:
+    """A built-in scene by name (``fibril-run --builtin``)."""
+    if name not in BUILTIN_SCENES:
+        raise ConfigError("--builtin", name, "one of " + ", ".join(BUILTIN_SCENES))
+    return scene_from_dict(dict(BUILTIN_SCENES[name]))
+
+
+def scene_to_yaml(scene: Scene) -> str:
+    """The resolved scene as YAML text (every field, defaults included)."""
+    return yaml.safe_dump(scene.to_dict(), sort_keys=False)

@@ -1,0 +1,441 @@
+"""The physical scene and the solver options: frozen, validated dataclasses.
+
+Every input is dimensionless (see ``docs``/README and :mod:`fibril_hpc.geometry.scaling`). One name per
+quantity: the YAML key, the dataclass field, the HDF5 attribute and the JSON key are the same.
+Construction validates every field and raises :class:`~fibril_hpc.errors.ConfigError` naming the
+field and the allowed range; nothing else in the package re-checks user input.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+from ..errors import ConfigError
+from ..geometry import tips as _tips
+from ..geometry.grid import LATTICES, MAX_N_SIDE, n_side_of
+from ..solve.coarse import MAX_PILLARS
+from . import heights as _heights
+from .limits import check_grid
+from .presets import DEFAULT_PRESET, PRESET_NAMES, preset_values
+from .ranges import Choice, Flag, Int, Real, check_fields
+
+#: Pillars per side when neither n_side nor n_pillars is given.
+DEFAULT_N_SIDE = 18
+
+#: Detachment criteria (``SolverOptions.criterion``; :mod:`fibril_hpc.path.criterion`).
+CRITERIA = ("mesh", "footprint")
+
+#: The direction solve's tolerance over ``cg_tol`` when ``solver.direction_tol`` is not given.
+DIRECTION_SLACK = 100.0
+
+#: Largest filling ratio a square lattice of discs can hold (touching discs).
+PHI_MAX = math.pi / 4
+
+#: What a solver option decides (``SolverOptions`` field metadata ``kind``):
+#: ``accuracy`` options define the result (presets set them; they are part of job keys),
+#: ``backend`` options choose how it is computed (equal to rounding; part of job keys, since keys
+#: promise bitwise identity), ``resource`` options only cap or spend resources (left out of
+#: job keys).
+OPTION_KINDS = ("accuracy", "backend", "resource")
+
+
+def _opt(default, kind: str, rng, operator_arg: str = "", extra: bool = False):
+    meta = {"kind": kind, "range": rng}
+    if operator_arg:
+        meta["operator_arg"] = operator_arg     # the HalfSpace argument this option sets
+    if extra:
+        meta["extra"] = True    # stored in the scene text only off its default (Scene.to_dict)
+    return dataclasses.field(default=default, metadata=meta)
+
+
+def _in(default, rng, many: bool = False):
+    return dataclasses.field(default=default, metadata={"range": rng, "many": many})
+
+
+def _lab(default, rng, key: bool = True):
+    """A field of the lab scenes (issue 11): stored and part of job keys only when it differs
+    from its default, so every scene written before it existed keeps its text and key."""
+    return dataclasses.field(default=default, metadata={"range": rng, "many": False,
+                                                        "extra": True, "key": key})
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Numerical knobs; every one has a documented default.
+
+    Attributes
+    ----------
+    cg_tol : float
+        Relative tolerance of the constrained CG, measured against the half-space part of the
+        operator: ``||r|| <= cg_tol * ||K p||`` (docs/model.md §4: stays accurate for soft springs).
+        Range (0, 1e-2]. Default 1e-8.
+    cg_maxiter : int
+        Iteration cap of one CG solve; exceeding it is a :class:`NoConvergenceError`. Default 5000.
+    relax_tol : float
+        CG tolerance of the intermediate passes of a detachment/attachment cascade at fixed d; a
+        set that is stable at it is confirmed at ``cg_tol`` before the cascade ends. Setting it
+        equal to ``cg_tol`` (or below) solves every pass fully. Range (0, 1e-2]. Default 1e-5.
+    event_merge : float
+        While unloading, contact-set events whose plate displacement lies within this distance (in
+        units of d_c) after the first one are handled as one batch: the path moves to the last of
+        them before the set is relaxed. The force just before the first event is always recorded
+        exactly. Range [0, 1]. Default 1e-4.
+    load_event_merge : float
+        The same while loading, where it hardly changes F_A (the set at the preload is what
+        matters) but saves many solves. Range [0, 1]. Default 1e-2.
+    max_events : int
+        Cap on contact-set events along one curve (a runaway guard). Default 1_000_000.
+    max_wall_s : float or None
+        Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
+        simulation with that reason (campaigns use it to turn a runaway job into a failed record).
+    preconditioner : str
+        ``"auto"`` (default: where all pillars share one footprint and there are at most 1024 of
+        them ``"moments"`` if the FFT is dear enough for it (``solve.factory.prefers_moments``: the
+        default and accurate 18 x 18 scenes, small brushes), else
+        ``"two_level"``; ``"block"`` for more pillars; else ``"diagonal"``), ``"block"`` (exact
+        per-pillar block Jacobi), ``"diagonal"`` (c0 I + alpha B B^T), ``"two_level"`` (block
+        Jacobi plus a coarse level of one pillar force per pillar in contact, for brushes of one
+        footprint and at most 1024 pillars: same answers to the CG tolerance, about half the CG
+        iterations; see :mod:`fibril_hpc.solve.coarse`) or ``"moments"`` (the same with three coarse
+        unknowns per pillar, its force and two tilts: fewer iterations again, more dense work
+        per iteration; :mod:`fibril_hpc.solve.moments`). A choice of how the result is computed: all
+        of them reach the same answer, and ``"auto"`` keeps its name in scene texts and job keys.
+    detach_policy : str
+        ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``
+        (only the most supercritical element of each pillar per pass). Default ``"all"``.
+    fft_backend : str
+        ``"pyfftw"`` (default) or ``"numpy"`` (reference/comparison).
+    fft_threads : int or None
+        Threads of the FFT and of BLAS; ``None`` (default) means one. The row-pruned pair is many
+        short batched 1-D transforms, where FFTW's threads cost more than they save on small
+        machines, and BLAS threads on the preconditioner's small products cost 1.4-2.2x the CPU
+        time for no gain in wall time (measurements: ``benchmarks/NOTES.md``), so more threads
+        are opt-in (e.g. ``fibril-campaign --fft-threads`` from Slurm's cpus-per-task). MPI
+        campaigns run one single-threaded job per rank. The numba kernels are serial.
+    fft_planner : str
+        FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
+    cascade : str
+        How a detachment/attachment cascade at fixed d is solved (does not define the result:
+        both reach the same fixed point, tested): ``"local"`` (default: the pillars whose set
+        changed are solved directly with the rest of the grid held, then one global solve
+        confirms) or ``"global"`` (the reference: a global solve per pass).
+    criterion : str
+        Detachment criterion (docs/model.md §5): ``"mesh"`` (default: an element of side h
+        detaches at sigma_c = sqrt(E* dgamma/(kappa h))) or ``"footprint"`` (sigma_c scaled by
+        one factor per pillar footprint and mesh, chosen so that one isolated rigid flat pillar of
+        that footprint pulls off at exactly Kendall's force; :mod:`fibril_hpc.path.criterion`). Flat
+        tips only. Stored in the scene text, and part of job keys, only off its default.
+    direction_tol : float or None
+        Relative CG tolerance of the direction solve p1 = A^-1 1_S on each new contact set
+        (docs/model.md §6). ``None`` (default): ``DIRECTION_SLACK`` (100) times ``cg_tol``, at
+        most 1e-2. The state at every event is solved at ``cg_tol``; the direction only carries it
+        to the next event, so its error moves the located events and the forces recorded just
+        before them by about ``direction_tol`` times the step, never the relaxed states
+        (measured on the default scene: F~_A within 2e-9 of the ``cg_tol`` direction, 1.17-1.19x
+        fewer FFT pairs; benchmarks/NOTES.md §21). Range (0, 1e-2]. Stored in the scene text, and
+        part of job keys, only off its default.
+    """
+
+    cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
+    cg_maxiter: int = _opt(5000, "accuracy", Int(1, 10**7))
+    relax_tol: float = _opt(1e-5, "accuracy", Real(0, 1e-2, lo_open=True))
+    event_merge: float = _opt(1e-4, "accuracy", Real(0, 1))
+    load_event_merge: float = _opt(1e-2, "accuracy", Real(0, 1))
+    max_events: int = _opt(1_000_000, "resource", Int(1, 10**9))
+    max_wall_s: float | None = _opt(None, "resource", Real(0, lo_open=True, none="null"))
+    preconditioner: str = _opt("auto", "accuracy",
+                               Choice(("auto", "block", "diagonal", "two_level", "moments")))
+    detach_policy: str = _opt("all", "accuracy", Choice(("all", "worst")))
+    fft_backend: str = _opt("pyfftw", "backend", Choice(("pyfftw", "numpy")), "backend")
+    fft_threads: int | None = _opt(None, "resource", Int(1, 1024, none="null (one thread)"),
+                                   "threads")
+    fft_planner: str = _opt("estimate", "backend", Choice(("estimate", "measure", "patient")),
+                            "planner")
+    cascade: str = _opt("local", "backend", Choice(("local", "global")))
+    criterion: str = _opt("mesh", "accuracy", Choice(CRITERIA), extra=True)
+    direction_tol: float | None = _opt(None, "accuracy",
+                                       Real(0, 1e-2, lo_open=True,
+                                            none=f"null ({DIRECTION_SLACK:g} x cg_tol)"),
+                                       extra=True)
+
+    def __post_init__(self):
+        check_fields(self, "solver.")
+
+    @classmethod
+    def from_preset(cls, name: str = DEFAULT_PRESET, **overrides) -> SolverOptions:
+        """The options of an accuracy preset (:mod:`fibril_hpc.inputs.presets`) with explicit overrides."""
+        return cls(**{**preset_values(name)["solver"], **overrides})
+
+    @classmethod
+    def of_kind(cls, kind: str) -> tuple:
+        """Names of the options of one kind (see :data:`OPTION_KINDS`), in field order."""
+        return tuple(f.name for f in dataclasses.fields(cls) if f.metadata["kind"] == kind)
+
+    def operator_settings(self) -> dict:
+        """The keyword arguments of :class:`~fibril_hpc.elastic.halfspace.HalfSpace` these options set
+        (``fft_threads`` resolved): what an operator, and so an operator cache, depends on."""
+        return {f.metadata["operator_arg"]: (self.threads if f.name == "fft_threads"
+                                             else getattr(self, f.name))
+                for f in dataclasses.fields(self) if "operator_arg" in f.metadata}
+
+    @property
+    def direction_tolerance(self) -> float:
+        """Resolved tolerance of the direction solve: ``direction_tol``, else
+        ``DIRECTION_SLACK * cg_tol`` capped at 1e-2 (see the attribute's docs)."""
+        if self.direction_tol is not None:
+            return self.direction_tol
+        return min(1e-2, DIRECTION_SLACK * self.cg_tol)
+
+    @property
+    def threads(self) -> int:
+        """Resolved FFT thread count: ``fft_threads``, else 1 (see the attribute's docs)."""
+        return 1 if self.fft_threads is None else self.fft_threads
+
+    def replace(self, **changes) -> SolverOptions:
+        """A copy with options changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A pillar-array pull-off scene in dimensionless inputs (docs/model.md §1-2).
+
+    Attributes
+    ----------
+    n_side : int
+        Pillars per side of the square lattice (n = n_side**2 pillars). Default 18; 1 is a single
+        pillar. Range [1, 200]. Or give ``n_pillars`` instead (not both).
+    phi : float
+        Nominal filling ratio n*pi*D**2/(4*A0). Default 0.16. Range (0, pi/4).
+    k_tilde : float
+        Pillar spring stiffness k/(E* L); ``inf`` for rigid pillars. Default 0.01. Range (0, inf].
+    sigma_tilde : float
+        Standard deviation of pillar length over d_c. Default 0.5. Range [0, 1e3].
+    d_tilde : tuple of float or None
+        Preload(s) as maximum indentation d/d_c (d = 0 when the longest pillar first touches).
+        Any finite value; below 0 touches nothing.
+    F_P : tuple of float or None
+        Preload(s) as target force F/F_c (> 0); the solver finds the indentation reaching it.
+        Give ``d_tilde`` or ``F_P``, not both; if neither, ``F_P = 4``.
+    seed : int
+        Seed of the pillar lengths (numpy PCG64, standard normals drawn in row-major pillar
+        order). Default 0. Range [0, 2**63 - 1].
+    elements_per_diameter : float or None
+        Resolution target: elements across a nominal pillar diameter. The pitch becomes the nearest
+        odd whole number of elements (pillar centres on element centres), so the realised value
+        is reported. ``None``: the preset's (8 for ``default``). Range [2, 128].
+    adhesion : bool
+        Default true. False gives frictionless, non-adhesive contact (no detachment criterion,
+        no unloading branch: it retraces the loading one, so F_A = 0).
+    work_of_adhesion : float
+        Internal unit of the adhesion energy (E* = L = 1). Normalised results do not depend on it
+        (scale invariance, docs/model.md §2); it exists so that tests can prove that. Default 1.
+    preset : str
+        Accuracy preset, ``fast``, ``default`` or ``accurate`` (:mod:`fibril_hpc.inputs.presets`): fills
+        ``elements_per_diameter`` if it is ``None`` and the solver knobs if ``solver`` is ``None``
+        or a mapping (whose keys override the preset's). Default ``default`` (package defaults).
+    solver : SolverOptions, mapping or None
+        Numerical options: a complete :class:`SolverOptions` (used as given), or a mapping of the
+        knobs that override the preset's, or ``None`` (the preset's). Stored resolved.
+
+    The fields below describe lab scenes. Each is off at its default, which gives exactly the
+    scene above (bitwise), and is stored (and enters a campaign job key) only when it is not at
+    its default.
+
+    lattice : str
+        ``square`` (default) or ``hexagonal`` (n_side pillars per row, n_side rows, every other
+        row shifted by half a pitch; phi is the pillar area over the unit cell s**2 sqrt(3)/2 and
+        the pitch s the nearest-neighbour distance, as for the square lattice; docs/model.md §9).
+        The discrete filling ratio is reported as ``phi_discrete``.
+    heights : str or tuple of float
+        Pillar length law, ``gaussian`` (default), ``exponential`` or ``uniform`` (each of
+        standard deviation sigma~; :mod:`fibril_hpc.inputs.heights`), or measured lengths: a ``.csv`` or
+        ``.npy`` file (read once, the values are kept in the scene) or a list, one per pillar.
+    heights_d_c : float or None
+        ``None`` (default): measured lengths are in units of d_c; else d_c in the file's unit.
+    heights_source : str
+        Set when the lengths come from a file: its name and SHA-256 (not part of job keys).
+    k_law : str or tuple of float
+        Per-pillar stiffness: ``one`` (default: every pillar ``k_tilde``), ``lognormal``
+        (k~_n = k_tilde exp(k_spread z_n), z_n standard normal from its own stream of the seed;
+        median ``k_tilde``), or per-pillar k~ values: a ``.csv``/``.npy`` file or a list.
+    k_spread : float
+        Standard deviation of ln k~ of the ``lognormal`` law. Default 0. Range [0, 10].
+    k_source : str
+        Set when the stiffnesses come from a file: its name and SHA-256 (not part of job keys).
+    tip : str
+        ``flat`` (default), ``sphere`` (a spherical cap) or ``rounded`` (a flat tip with a
+        rounded edge); :mod:`fibril_hpc.geometry.tips`.
+    tip_radius : float or None
+        Cap radius (>= 0.5) or edge radius (in (0, 0.5]) over the pillar diameter; ``None`` for
+        flat tips.
+    k_machine : float
+        Stiffness of the loading machine, dimensionless like k~ (k_m/(E* L)); ``inf`` (default)
+        is displacement control, small values approach force control
+        (:mod:`fibril_hpc.path.machine`). Range (0, inf].
+    n_pillars : int or None
+        The pillar count instead of ``n_side`` (not both): a square number n_side**2, since
+        both lattices hold n_side rows of n_side pillars (:func:`~fibril_hpc.geometry.grid.n_side_of`).
+        It is resolved to ``n_side`` at once and then reads ``None``, so a scene given by its
+        count is the very scene (text, job key) given by its side.
+    """
+
+    n_side: int = _in(None, Int(1, MAX_N_SIDE))     # None: 18, or from n_pillars
+    phi: float = _in(0.16, Real(0, PHI_MAX, lo_open=True, hi_open=True))
+    k_tilde: float = _in(0.01, Real(0, lo_open=True, note=", or inf for rigid pillars"))
+    sigma_tilde: float = _in(0.5, Real(0, 1000))
+    d_tilde: tuple | None = _in(None, Real(), many=True)
+    F_P: tuple | None = _in(None, Real(0, 1e6, lo_open=True, hi_open=True), many=True)
+    seed: int = _in(0, Int(0, 2**63 - 1, hi_text="2**63-1"))
+    elements_per_diameter: float | None = _in(None, Real(2, 128))
+    adhesion: bool = _in(True, Flag())
+    work_of_adhesion: float = _in(1.0, Real(0, 1e12, lo_open=True, hi_open=True))
+    preset: str = _in(DEFAULT_PRESET, Choice(PRESET_NAMES))
+    solver: SolverOptions | dict | None = None
+    lattice: str = _lab("square", Choice(LATTICES))
+    heights: str | tuple = _lab("gaussian", _heights.HeightsRange())
+    heights_d_c: float | None = _lab(None, Real(0, lo_open=True, hi_open=True,
+                                                none="null (lengths in units of d_c)"))
+    heights_source: str = _lab("", None, key=False)
+    k_law: str | tuple = _lab("one", _heights.KLawRange())
+    k_spread: float = _lab(0.0, Real(0, 10))
+    k_source: str = _lab("", None, key=False)
+    tip: str = _lab("flat", Choice(_tips.TIPS))
+    tip_radius: float | None = _lab(None, Real(0, lo_open=True, hi_open=True, none="null"))
+    k_machine: float = _lab(math.inf, Real(0, lo_open=True,
+                                           note=", or inf (displacement control)"))
+    n_pillars: int | None = _lab(None, None, key=False)
+
+    def __post_init__(self):
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        if self.n_pillars is not None:          # the count resolves to n_side (then reads None)
+            if self.n_side is not None:
+                raise ConfigError("n_pillars", self.n_pillars, "give n_side or n_pillars, not "
+                                  f"both (n_side: {self.n_side!r})")
+            lattice = self.lattice if self.lattice in LATTICES else "square"
+            set_("n_side", n_side_of(self.n_pillars, lattice))
+            set_("n_pillars", None)
+        elif self.n_side is None:
+            set_("n_side", DEFAULT_N_SIDE)
+        if _heights.is_file(self.heights):
+            values, source = _heights.read_file(self.heights)
+            set_("heights", values)
+            set_("heights_source", source)
+        if _heights.is_file(self.k_law):
+            values, source = _heights.read_file(self.k_law, "k_law")
+            set_("k_law", values)
+            set_("k_source", source)
+        for name in ("heights_source", "k_source"):
+            if not isinstance(getattr(self, name), str):
+                raise ConfigError(name, getattr(self, name), "a text")
+        pv = preset_values(Choice(PRESET_NAMES).check("preset", self.preset))
+        if self.elements_per_diameter is None:      # the preset fills what is not given
+            set_("elements_per_diameter", pv["elements_per_diameter"])
+        if self.solver is None or isinstance(self.solver, dict):
+            bad = sorted(set(self.solver or {}) - set(SOLVER_FIELDS))
+            if bad:
+                raise ConfigError(f"solver.{bad[0]}", self.solver[bad[0]],
+                                  "a known option: " + ", ".join(SOLVER_FIELDS))
+            set_("solver", SolverOptions(**{**pv["solver"], **(self.solver or {})}))
+        if self.d_tilde is not None and self.F_P is not None:
+            raise ConfigError("F_P", self.F_P, "give either d_tilde or F_P, not both")
+        check_fields(self)
+        if self.d_tilde is None and self.F_P is None:
+            set_("F_P", (4.0,))
+        check_grid(self.n_side, self.phi, self.elements_per_diameter, self.lattice)  # before work
+        if not isinstance(self.solver, SolverOptions):
+            raise ConfigError("solver", self.solver, "a mapping of solver options")
+        if not isinstance(self.heights, str) and len(self.heights) != self.n_side**2:
+            raise ConfigError("heights", f"{len(self.heights)} lengths",
+                              f"one length per pillar: n_side**2 = {self.n_side**2}")
+        if isinstance(self.heights, str) and self.heights_d_c is not None:
+            raise ConfigError("heights_d_c", self.heights_d_c,
+                              "null unless heights are measured lengths (a file or a list)")
+        if not isinstance(self.k_law, str) and len(self.k_law) != self.n_side**2:
+            raise ConfigError("k_law", f"{len(self.k_law)} values",
+                              f"one stiffness per pillar: n_side**2 = {self.n_side**2}")
+        if (self.k_law == "lognormal") != (self.k_spread > 0):
+            raise ConfigError("k_spread", self.k_spread,
+                              "a number in (0, 10] with k_law: lognormal, else 0")
+        if self.k_law != "one" and self.rigid:
+            raise ConfigError("k_law", self.k_law, "'one' for rigid pillars (k_tilde: inf)")
+        _tips.check_tip(self.tip, self.tip_radius)
+        if self.solver.criterion == "footprint" and self.tip != "flat":
+            raise ConfigError("solver.criterion", self.solver.criterion,
+                              "mesh for tip: " + self.tip + " (the footprint calibration is "
+                              "defined by a flat pillar)")
+        if self.solver.preconditioner in ("two_level", "moments"):
+            if self.n_side**2 > MAX_PILLARS:
+                raise ConfigError("solver.preconditioner", self.solver.preconditioner,
+                                  f"auto, block or diagonal for {self.n_side**2} pillars "
+                                  f"({self.solver.preconditioner}: at most {MAX_PILLARS})")
+
+    @property
+    def rigid(self) -> bool:
+        """Whether the pillars are rigid (k~ = inf)."""
+        return math.isinf(self.k_tilde)
+
+    @property
+    def preload_kind(self) -> str:
+        """``"d_tilde"`` or ``"F_P"``."""
+        return "d_tilde" if self.d_tilde is not None else "F_P"
+
+    @property
+    def preloads(self) -> tuple:
+        """The preload values (``d_tilde`` or ``F_P``, ascending)."""
+        return self.d_tilde if self.d_tilde is not None else self.F_P
+
+    def replace(self, **changes) -> Scene:
+        """A copy with fields changed (``d_tilde``/``F_P`` swap cleanly)."""
+        if "d_tilde" in changes and "F_P" not in changes:
+            changes["F_P"] = None
+        if "F_P" in changes and "d_tilde" not in changes:
+            changes["d_tilde"] = None
+        if changes.get("n_pillars") is not None and "n_side" not in changes:
+            changes["n_side"] = None                # the count replaces the side
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """Plain, YAML/JSON-ready dict of every resolved field (``inf`` kept as a float)."""
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)
+               if f.name != "solver" and not f.metadata.get("extra")}
+        for key in ("d_tilde", "F_P"):
+            out[key] = None if out[key] is None else list(out[key])
+        out["solver"] = dataclasses.asdict(self.solver)
+        filled = preset_values(self.preset)["solver"]
+        for f in dataclasses.fields(SolverOptions):     # new options: only off their default
+            if f.metadata.get("extra") and out["solver"][f.name] == f.default \
+                    and filled.get(f.name, f.default) == f.default:
+                del out["solver"][f.name]
+        for f in dataclasses.fields(self):      # lab fields: only when not at their default
+            if f.metadata.get("extra") and getattr(self, f.name) != f.default:
+                v = getattr(self, f.name)
+                out[f.name] = list(v) if isinstance(v, tuple) else v
+        return out
+
+
+SCENE_FIELDS = tuple(f.name for f in dataclasses.fields(Scene))
+SOLVER_FIELDS = tuple(f.name for f in dataclasses.fields(SolverOptions))
+
+
+def scene_from_dict(data: dict, *, where: str = "") -> Scene:
+    """Build a :class:`Scene` from a plain mapping, rejecting unknown keys.
+
+    ``where`` prefixes field names in error messages (e.g. ``"scene."``).
+    """
+    if not isinstance(data, dict):
+        raise ConfigError(where.rstrip(".") or "scene", data, "a mapping of scene fields")
+    unknown = sorted(set(data) - set(SCENE_FIELDS))
+    if unknown:
+        raise ConfigError(where + str(unknown[0]), data[unknown[0]],
+                          "a known field: " + ", ".join(SCENE_FIELDS))
+    kwargs = dict(data)
+    solver = kwargs.pop("solver", None)     # a mapping overrides the preset's knobs key by key
+    if solver is not None and not isinstance(solver, (dict, SolverOptions)):
+        raise ConfigError(where + "solver", solver, "a mapping of solver options")
+    try:
+        return Scene(**kwargs, solver=solver)
+    except ConfigError as exc:
+        raise ConfigError(where + exc.field, exc.value, exc.allowed) from None

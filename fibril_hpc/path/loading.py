@@ -1,0 +1,431 @@
+"""Displacement-controlled loading to the preload(s), then pull-off until complete detachment.
+
+The driver is event-driven (docs/model.md §6): on a fixed attached set S the solution is affine in the
+plate displacement d, p(d) = p + (d - d0) p1 with A p1 = 1_S, and so are the tip forces and the
+gaps of free elements. From a consistent state the driver therefore
+
+1. solves once for the direction p1 (and u1 = K p1, f1, g1) on the current set,
+2. finds exactly the next event along the path: an attached element reaching p = -sigma_c, or a
+   free element's gap closing (or the target: a preload d or force F_P),
+3. moves there without solving, records the pre-event point (exact: this is where the force
+   minimum of a segment lies), flips the element(s) whose events fall within ``event_merge``
+   (``load_event_merge`` while loading) as one batch,
+4. relaxes at that d: solve on the new set, detach every supercritical element and attach every
+   penetrating one (the reference policy), repeat until the set stops changing,
+5. records the post-event point and goes back to 1.
+
+The recorded curve is therefore the exact piecewise-affine path (to the CG tolerance), with
+vertical jumps at events, and F_A = -min F is located without blind stepping. The loading path
+does not depend on where it stops: all preloads of a scene are snapshots of one loading path, and
+each unloading branch starts from its snapshot (with its direction already solved).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..errors import NoConvergenceError
+from ..kernels import compiled as kern
+from ..solve.cascade import LocalCascade
+from .records import BranchResult, CurveRecorder, Snapshot
+
+_MAX_RELAX_PASSES = 100_000
+_MAX_SNAPSHOT_PASSES = 1000
+
+
+class PathDriver:
+    """Owns the mutable state of one load path on a :class:`~fibril_hpc.model.Model`."""
+
+    def work_arrays(self) -> dict:
+        """The state and work vectors this driver owns, by name (for read-only use, e.g. memory
+        accounting); arrays shared with the geometry are not included."""
+        shared = {id(a) for a in vars(self.model.geometry).values() if isinstance(a, np.ndarray)}
+        return {k: v for k, v in vars(self).items()
+                if isinstance(v, np.ndarray) and id(v) not in shared}
+
+    def __init__(self, model):
+        self.model = model
+        g = model.geometry
+        self.starts = g.starts
+        self.z0 = g.z0
+        self.h2 = g.h * g.h
+        self.inv_k = 0.0 if model.rigid else 1.0 / model.k
+        n, ng = g.n_active, g.n_groups
+        self.d = 0.0
+        self.p = np.zeros(n)
+        self.u = np.zeros(n)
+        self.att = np.zeros(n, dtype=np.uint8)
+        self.g = np.zeros(n)
+        self.f = np.zeros(ng)
+        self.p1 = np.zeros(n)
+        self.u1 = np.zeros(n)
+        self.g1 = np.zeros(n)
+        self.f1 = np.zeros(ng)
+        self.counts = np.zeros(ng, dtype=np.int64)
+        # u = K p_ref and u1 = K p1_ref hold exactly; p, p1 differ from them only where elements
+        # flipped since, which a direct sum corrects (no FFT) before the next solve
+        self.p_ref = np.zeros(n)
+        self.p1_ref = np.zeros(n)
+        # attached sets of the last solve for p and for p1 (the local path re-solves, before a
+        # global solve, the groups whose set changed since)
+        self.att_ref = np.zeros(n, dtype=np.uint8)
+        self.att1_ref = np.zeros(n, dtype=np.uint8)
+        self.group_of = np.repeat(np.arange(ng), np.diff(self.starts))
+        self._since_full = 0
+        self._b = np.empty(n)
+        self._ones = np.ones(n)
+        self._dl = np.zeros(ng)
+        self.events = 0
+        opts = model.options
+        d_c = model.scaling.d_c
+        self.merge = {-1.0: opts.event_merge * d_c, +1.0: opts.load_event_merge * d_c}
+        self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
+        self.tol_g = 1e3 * opts.cg_tol * d_c
+        self.tol_dir = opts.direction_tolerance
+        self.worst_only = opts.detach_policy == "worst"
+        self.local = LocalCascade(model) if opts.cascade == "local" else None
+        self.deadline = (math.inf if opts.max_wall_s is None
+                         else time.monotonic() + opts.max_wall_s)
+
+    # -- derived quantities ---------------------------------------------------------------
+    def _forces(self, p, out):
+        kern.group_sums(p, self.att, self.starts, out)
+        out *= self.h2
+
+    def _gaps(self, u, f, d, zcoef, out):
+        np.multiply(f, self.inv_k, out=self._dl)
+        kern.gaps(u, self.starts, self.z0, zcoef, d, self._dl, out)
+
+    def force(self) -> float:
+        """Total force on the plate (internal units; > 0 compression)."""
+        return float(self.f.sum())
+
+    def n_attached(self) -> int:
+        """Number of attached elements."""
+        return int(np.count_nonzero(self.att))
+
+    def pillars_in_contact(self) -> int:
+        """Number of pillars with at least one attached element."""
+        kern.group_counts(self.att, self.starts, self.counts)
+        return int(np.count_nonzero(self.counts))
+
+    def record(self, curve: CurveRecorder):
+        """Append the current state to ``curve``."""
+        curve.add(self.d, self.force(), self.n_attached(), self.pillars_in_contact())
+
+    # -- solves -----------------------------------------------------------------------------
+    def relax(self):
+        """Solve at fixed d and update the contact set until it stops changing.
+
+        ``cascade: global`` (the reference): every pass is a global solve. The first pass solves
+        at the full ``cg_tol``; once the set changes, the passes in the middle of the cascade
+        solve to ``relax_tol`` (looser), a set that is stable at that tolerance is confirmed by a
+        solve at ``cg_tol``, and only a set stable at full tolerance ends the relaxation.
+
+        ``cascade: local`` (default): before each global solve the pillars whose set or
+        pressure changed since the last solve run their own cascade with exact dense solves and
+        the rest of the grid held (:class:`~fibril_hpc.solve.cascade.LocalCascade`); the global solve
+        at ``cg_tol`` then confirms, and a new local round starts only on the pillars it
+        flips. Where the changed pillars are too many for a dense solve the pass is a global
+        one with the reference's tolerances.
+        """
+        m = self.model
+        np.subtract(self.d, self.z0, out=self._b)
+        loose = max(m.options.relax_tol, m.options.cg_tol)
+        tight = True
+        for _ in range(_MAX_RELAX_PASSES):
+            if self.local is not None:
+                groups = self._changed_groups(self.p, self.p_ref, self.att_ref)
+                if len(groups):
+                    out = self.local.cascade(groups, self.d, self._b, self.p, self.p_ref, self.u,
+                                             self.g, self.att, m.sigma_c, self.tol_p, self.tol_g,
+                                             self.worst_only, m.solver.precond)
+                    if out is not None and out[0]:
+                        # the set changed: a local fixed point is confirmed at full tolerance
+                        # at once; an untrusted proposal is an intermediate (loose) pass
+                        tight = out[1] or loose == m.options.cg_tol
+            tol = None if tight else loose
+            self._solve(self._b, self.p, self.u, self.p_ref, tol)
+            self.att_ref[:] = self.att
+            self._forces(self.p, self.f)
+            self._gaps(self.u, self.f, self.d, 1.0, self.g)
+            nd, na = kern.update_contact_set(self.p, self.g, self.att, self.starts, m.sigma_c,
+                                             self.tol_p, self.tol_g, self.worst_only)
+            if nd == 0 and na == 0:
+                if tol is None:
+                    return
+                tight = True        # confirm at full tolerance
+            elif loose != m.options.cg_tol:
+                tight = False
+        raise NoConvergenceError(f"contact set did not settle in {_MAX_RELAX_PASSES} passes "
+                                 f"at d = {self.d:.6g}")
+
+    def _changed_groups(self, x, x_ref, att_ref):
+        """Groups with an element whose value or attachment changed since the last solve."""
+        diff = (x != x_ref) | (self.att != att_ref)
+        return np.unique(self.group_of[diff])
+
+    #: full FFT recomputation of u after this many incrementally-kept solves (drift guard)
+    REFRESH = 64
+
+    def _solve(self, b, x, u, x_ref, tol=None) -> int:
+        """Solve on the current set, keeping u = K x valid without an FFT where possible."""
+        valid = False
+        if self._since_full < self.REFRESH:
+            idx = np.flatnonzero(x != x_ref)
+            valid = self.model.operator.add_point_loads(u, idx, x[idx] - x_ref[idx])
+        self._since_full = self._since_full + 1 if valid else 0
+        its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid)
+        x_ref[:] = x
+        return its
+
+    def solve_direction(self):
+        """p1 = A^-1 1_S, u1 = K p1, f1, g1 on the current set, to ``solver.direction_tol``
+        (the state itself is relaxed to ``cg_tol`` at every event)."""
+        self.p1[self.att == 0] = 0.0
+        if self.att.any():
+            if self.local is not None:
+                # the set changed on a few pillars since the last direction: solve those
+                # directly with the rest held, so the global solve only restores the coupling
+                groups = self._changed_groups(self.p1, self.p1_ref, self.att1_ref)
+                if len(groups):
+                    self.local.solve(groups, self._ones, self.p1, self.p1_ref, self.u1, self.att)
+            self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir)
+        else:
+            self.u1[:] = 0.0
+            self.p1_ref[:] = 0.0
+        self.att1_ref[:] = self.att
+        self._forces(self.p1, self.f1)
+        self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
+
+    def move(self, dist: float, sgn: float):
+        """Move along the affine path of the current set (no solve)."""
+        s = sgn * dist
+        if s == 0.0:
+            return
+        self.d += s
+        self.p += s * self.p1
+        self.p_ref += s * self.p1_ref
+        self.u += s * self.u1
+        self.f += s * self.f1
+        self.g += s * self.g1
+
+    def next_event(self, sgn: float) -> float:
+        """Distance in d (direction ``sgn``) to the next contact-set event on the current set."""
+        return kern.event_distance(self.p, self.p1, self.g, self.g1, self.att,
+                                   self.model.sigma_c, sgn)
+
+    def _count_event(self):
+        self.events += 1
+        if self.events > self.model.options.max_events:
+            raise NoConvergenceError(f"more than {self.model.options.max_events} contact events "
+                                     "along one path (solver.max_events)")
+        if time.monotonic() > self.deadline:
+            raise NoConvergenceError(f"wall-time cap of {self.model.options.max_wall_s:g} s "
+                                     "exceeded (solver.max_wall_s)")
+
+    _STATE = ("p", "u", "att", "g", "f", "p1", "u1", "g1", "f1", "p_ref", "p1_ref", "att_ref",
+              "att1_ref")
+
+    def _save(self) -> dict:
+        out = {k: getattr(self, k).copy() for k in self._STATE}
+        out["d"] = self.d
+        out["_since_full"] = self._since_full
+        out["_precond"] = self.model.solver.precond.state()
+        return out
+
+    def _load(self, saved: dict):
+        for k in self._STATE:
+            getattr(self, k)[:] = saved[k]
+        self.d = saved["d"]
+        self._since_full = saved["_since_full"]
+        self.model.solver.precond.set_state(saved["_precond"])
+
+    def snapshot_ahead(self, dist: float, n_points: int, force_target: float | None = None
+                       ) -> Snapshot:
+        """The consistent state ``dist`` further along the path, without touching the path.
+
+        The state is moved there on the current set; elements whose events lie *before* it (by
+        more than 1e-9 d_c: passed inside an event batch) flip and the set is relaxed, so the
+        preload state has no penetrating free element; an event exactly at the preload does not
+        flip, so a request that lands on an event is met exactly instead of by rounding. For a
+        force preload (``force_target``) the state is then moved along the new set until the force
+        equals the request again (repeated while that passes further events). Finally every array
+        (the preconditioner's state included) is put back bit for bit: the path does not depend on
+        which preloads are requested, and grouped preloads give exactly what separate runs give.
+        Each unloading branch starts with the preconditioner's history forgotten (``restore``).
+        """
+        saved = self._save()
+        self.move(abs(dist), 1.0 if dist >= 0 else -1.0)
+        passed = -1e-9 * self.model.scaling.d_c
+        for _ in range(_MAX_SNAPSHOT_PASSES):
+            if dist <= 0 or kern.flip_events(self.p, self.p1, self.g, self.g1, self.att,
+                                             self.model.sigma_c, 1.0, passed) == (0, 0):
+                break
+            self.relax()
+            self.solve_direction()
+            f1 = float(self.f1.sum())
+            if force_target is None or not f1 > 0:
+                break
+            step = (force_target - self.force()) / f1
+            self.move(abs(step), 1.0 if step >= 0 else -1.0)
+        else:
+            raise NoConvergenceError("the preload state did not settle")
+        snap = Snapshot(self.d, self.p.copy(), self.u.copy(), self.att.copy(), self.p1.copy(),
+                        self.u1.copy(), n_points,
+                        (self.d, self.force(), self.n_attached(), self.pillars_in_contact()))
+        self._load(saved)
+        return snap
+
+    def restore(self, snap: Snapshot):
+        """Return to the state of a snapshot."""
+        self.d = snap.d
+        self.p[:] = snap.p
+        self.u[:] = snap.u
+        self.att[:] = snap.att
+        self.p1[:] = snap.p1
+        self.u1[:] = snap.u1
+        self.p_ref[:] = snap.p
+        self.p1_ref[:] = snap.p1
+        self.att_ref[:] = snap.att
+        self.att1_ref[:] = snap.att
+        self._since_full = 0
+        self.model.solver.precond.set_state(None)     # a function of the set from here on
+        self._forces(self.p, self.f)
+        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+        self._forces(self.p1, self.f1)
+        self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
+
+    def _step(self, sgn, dist, curve, on_point=None, on_batch=None):
+        """Advance through the next batch of events and re-equilibrate.
+
+        Moves to the first event (distance ``dist``) and records that exact pre-event point; the
+        events within ``event_merge`` after it form one batch: the path moves on to the last of
+        them on the old set, every element whose event has been reached flips (attached ones at
+        p <= -sigma_c detach, free ones with a closed gap attach: no attraction across a gap), the
+        set is relaxed, the post-event point recorded and the direction re-solved.
+        ``on_batch(last)`` is called at the first event with the batch length (preload snapshots
+        falling inside the batch are taken off the old set's affine path).
+        """
+        self.move(dist, sgn)
+        self.record(curve)
+        if on_point is not None:
+            on_point()
+        last = kern.last_event_within(self.p, self.p1, self.g, self.g1, self.att,
+                                      self.model.sigma_c, sgn, self.merge[sgn])
+        if on_batch is not None:
+            on_batch(last)
+        self.move(last, sgn)
+        anchor = None if self.settle is None else self.anchor()
+        # elements at their event (to rounding): remaining distance <= a hair
+        hair = 1e-12 * self.model.scaling.d_c + 1e-12 * (abs(dist) + last)
+        if kern.flip_events(self.p, self.p1, self.g, self.g1, self.att, self.model.sigma_c,
+                            sgn, hair) == (0, 0):
+            raise NoConvergenceError(f"no element flipped at a located event (d = {self.d:.6g})")
+        self._count_event()
+        self.relax()
+        fresh = False if self.settle is None else self.settle(sgn, anchor)
+        self.record(curve)
+        if on_point is not None:
+            on_point()
+        if not fresh:
+            self.solve_direction()
+
+    #: hook of a compliant loading machine (:class:`~fibril_hpc.path.machine.MachineDriver`): after an
+    #: event's relaxation, ``settle(sgn, anchor) -> bool`` moves the plate to where the machine
+    #: holds it (and says whether the direction is solved there); None: displacement control,
+    #: nothing to do
+    settle = None
+
+    def solve_at(self, d: float) -> None:
+        """Equilibrium at plate displacement ``d`` by a plain active-set iteration from no contact
+        (attach every penetrating element, solve, detach / attach, repeat): the fixed-d contact
+        problem that FFT contact codes solve, without a load path. For frictionless contact it
+        is path independent; with adhesion it is the state reached by a sudden indentation."""
+        self._reset(d)
+        self.att[self.g < 0.0] = 1
+        self.relax()
+
+    def _reset(self, d: float) -> None:
+        """No contact, no load, at plate displacement d (gaps and direction consistent)."""
+        self.d = float(d)
+        for a in (self.p, self.u, self.p_ref, self.p1, self.u1, self.p1_ref):
+            a[:] = 0.0
+        self.att[:] = 0
+        self.att_ref[:] = 0
+        self.att1_ref[:] = 0
+        self._since_full = 0
+        self.model.solver.precond.set_state(None)
+        self._forces(self.p, self.f)
+        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+
+    # -- paths ------------------------------------------------------------------------------
+    def load(self, targets, kind: str, curve: CurveRecorder) -> list[Snapshot]:
+        """Load from no contact through every target (sorted ascending); snapshot at each.
+
+        kind is ``"d"`` (plate displacement, internal units) or ``"F"`` (force, internal units).
+        """
+        self._reset(0.0)
+        self.solve_direction()
+        self.record(curve)
+        snaps = []
+        pending = list(targets)
+
+        def distance_to(target):
+            if kind == "d":
+                dist = target - self.d
+            else:
+                f1 = float(self.f1.sum())
+                dist = (target - self.force()) / f1 if f1 > 0 else math.inf
+            # before first contact the path may also be followed backwards (d < 0 preloads)
+            return dist if not self.att.any() else max(dist, 0.0)
+
+        def take(reach):
+            while pending and distance_to(pending[0]) <= reach:
+                target = pending.pop(0)
+                snaps.append(self.snapshot_ahead(distance_to(target), len(curve.d),
+                                                 target if kind == "F" else None))
+
+        while pending:
+            dist = self.next_event(+1.0)
+            take(dist)
+            if not pending:
+                break
+            if not math.isfinite(dist):
+                raise NoConvergenceError("loading path has no further event and never "
+                                         "reaches the preload")
+            self._step(+1.0, dist, curve, on_batch=take)
+        return snaps
+
+    def unload(self, snap: Snapshot) -> BranchResult:
+        """Pull off from a preload snapshot until no element is attached."""
+        self.restore(snap)
+        curve = CurveRecorder()
+        self.record(curve)
+        ng = self.model.geometry.n_groups
+        let_go = np.full(ng, np.nan)
+        kern.group_counts(self.att, self.starts, self.counts)
+        prev = self.counts.copy()
+        best = [self.force(), self.d, self.f.copy(), self.p.copy(), self.att.copy()]
+        events0 = self.events
+
+        def consider():
+            F = self.force()
+            if F < best[0]:
+                best[:] = [F, self.d, self.f.copy(), self.p.copy(), self.att.copy()]
+
+        while self.att.any():
+            dist = self.next_event(-1.0)
+            if not math.isfinite(dist):
+                raise NoConvergenceError("unloading path has no further event while elements "
+                                         "are still attached")
+            self._step(-1.0, dist, curve, consider)
+            kern.group_counts(self.att, self.starts, self.counts)
+            let_go[(prev > 0) & (self.counts == 0)] = self.d
+            prev[:] = self.counts
+        return BranchResult(curve=curve, F_min=best[0], d_at_F_min=best[1], f_at_min=best[2],
+                            p_at_min=best[3], att_at_min=best[4], let_go_d=let_go,
+                            events=self.events - events0)
