@@ -18,7 +18,13 @@ plateau / c) and the next round's preloads are chosen:
 * both met but the kink's bracket (smallest above / largest below) wider than ``bracket``: bisect
   it in log F~_P.
 
-It stops when nothing is left to add or after ``rounds`` rounds. New preloads are rounded to three
+When nothing is left to add (or after ``rounds`` rounds) it checks the plateau: F~_A at the
+largest preload must be within 3 % (:data:`.laws.reading.PATH_RTOL`) of F~_A at the preload
+below it, or above it (the report's plateau is the preload-insensitive F~_A). If not, *plateau
+rounds* follow, one preload each: the largest x 4, capped at ``max``, until F~_A stops rising or
+``max`` is reached. Only the path's own records decide, so a resume replays them too, and a file
+finished before plateau rounds existed resumes by adding them (its records and job keys stay as
+they are; the settings and the campaign hash do not change). New preloads are rounded to three
 significant digits. Every chosen preload is an ordinary job with the ordinary key (the hash of its
 single-preload scene), so merge, status and export see normal records. The choice of round r is a
 function of the records of rounds 0 .. r-1 only, so a resumed campaign (after SIGKILL too)
@@ -34,6 +40,7 @@ from dataclasses import asdict, dataclass
 
 from ...errors import ConfigError
 from ..laws.fit import DEFAULT_LAW, fit_law
+from ..laws.reading import path_plateau_reached
 
 AUTO_WORD = "auto"
 #: the smallest preload's F~_A at least this fraction of the next one's: a floor, not linear
@@ -140,22 +147,45 @@ def next_preloads(a: AutoPreloads, tried, results) -> list:
     return out
 
 
+def plateau_preloads(a: AutoPreloads, tried, results) -> list:
+    """The next plateau round of one path: ``[min(largest tried x 4, max)]`` while F~_A still
+    rises at the largest preload (:func:`.laws.reading.path_plateau_reached`), else ``[]`` (also
+    with fewer than two done preloads: nothing to judge)."""
+    pts = [(fp, fa) for p, (fp, fa) in results.items() if p in tried and math.isfinite(fa)]
+    if len(pts) < 2 or path_plateau_reached([fp for fp, _ in pts], [fa for _, fa in pts]):
+        return []
+    hi = max(tried)
+    nxt = _round3(min(hi * 4.0, a.max))
+    return [nxt] if nxt > hi and nxt not in {_round3(p) for p in tried} else []
+
+
 def path_todo(a: AutoPreloads, results, retry_failed=False, failed=()) -> tuple[list, int]:
     """Replay the rounds of one path from its records: (preloads to run now, round number).
 
     ``results``: {preload: (F_P, F_A)} of the done jobs of the path; ``failed``: preloads recorded
-    as failed (rerun only with ``retry_failed``). An empty list: the path is finished."""
+    as failed (rerun only with ``retry_failed``). An empty list: the path is finished. The kink
+    rounds (at most ``rounds``) come first, then the plateau rounds (:func:`plateau_preloads`);
+    the round number of a finished path is its last round's, or ``rounds`` when the kink rounds
+    hit their limit."""
     tried: list = []
     cur = list(a.start)
-    for r in range(a.rounds):
+    r = 0                           # rounds completed
+    kink_rounds, limit_hit = True, False
+    while True:
         tried += cur
         missing = [p for p in cur if p not in results and (retry_failed or p not in failed)]
         if missing:
             return missing, r
-        cur = next_preloads(a, tried, results)
+        r += 1
+        cur = next_preloads(a, tried, results) if kink_rounds else []
+        if cur and r >= a.rounds:   # the round limit: the kink rounds stop here
+            cur, limit_hit = [], True
         if not cur:
-            return [], r
-    return [], a.rounds
+            kink_rounds = False
+            cur = plateau_preloads(a, tried, results)
+            if not cur:
+                # the last round's index (a.rounds when the kink rounds hit their limit)
+                return [], a.rounds if limit_hit else r - 1
 
 
 def results_by_path(records, paths) -> tuple[dict, dict]:
