@@ -76,19 +76,28 @@ def points_by_group(jobs) -> dict:
     return {k: tuple(np.asarray(c) for c in zip(*v)) for k, v in sorted(rows.items())}
 
 
-def campaign_preset(jobs) -> tuple[str, float | None]:
-    """(preset name, elements per diameter) of the campaign's scenes (its first done job)."""
+def campaign_preset(meta, jobs) -> tuple[str, float | None]:
+    """(preset name, elements per diameter) of the campaign's scene: the resolved grid in the
+    file's ``campaign_yaml``, else the scene of its first done job; ("", None) if neither."""
     import yaml
 
-    for j in jobs:
-        text = j.get("scene_yaml")
-        if j.get("status") == "done" and text:
-            try:
-                d = yaml.safe_load(text) or {}
-            except yaml.YAMLError:
-                continue
+    texts = [meta.get("campaign_yaml")] + [j.get("scene_yaml") for j in jobs
+                                            if j.get("status") == "done"][:1]
+    for text in texts:
+        if not text:
+            continue
+        try:
+            d = yaml.safe_load(text) or {}
+        except yaml.YAMLError:
+            continue
+        d = d.get("scene", d) if isinstance(d, dict) else {}
+        if isinstance(d, dict) and ("preset" in d or "elements_per_diameter" in d):
             epd = d.get("elements_per_diameter")
-            return str(d.get("preset", "default")), (float(epd) if epd is not None else None)
+            try:
+                epd = float(epd) if epd is not None else None
+            except (TypeError, ValueError):
+                epd = None
+            return str(d.get("preset", "default")), epd
     return "", None
 
 
@@ -161,8 +170,8 @@ def build(c, path: str, n_boot: int = N_BOOT) -> ReportData:
     jobs = [j for j in done if not kms or float(j.get("k_machine", math.inf)) == kms[0]]
     points = points_by_group(jobs)
     studies = study(points, n_boot=n_boot)
-    preset, epd = campaign_preset(done)
-    bias, note = preset_bias(preset, epd) if preset else (math.nan, "no done job to tell")
+    preset, epd = campaign_preset(c.meta, done)
+    bias, note = preset_bias(preset, epd) if preset else (math.nan, "no scene to tell the preset")
     d = ReportData(path, dict(c.meta), len(c.jobs), len(done),
                    sum(1 for j in c.jobs if j.get("status") != "done"),
                    sum(1 for j in done if not _finite(j)), kms, preset, bias, note, studies,
