@@ -1,7 +1,8 @@
-"""The report's figures of forces (matplotlib, Agg backend): loading curves, F~_A against F~_P
-on the paper's linear axes beside the log view, and the machine sweep. One function per PNG,
-each returning its path; nothing here computes a reading. A figure with nothing to draw says
-why on its face (:func:`say`). The coefficient figures are in :mod:`.figures_coeff`.
+"""The report's figures of forces (matplotlib ``Figure`` objects, no pyplot state): loading
+curves, F~_A against F~_P on the paper's linear axes beside the log view, and the machine sweep.
+One function per PNG, each returning its path; nothing here computes a reading. A figure with
+nothing to draw says why on its face (:func:`say`). The coefficient figures are in
+:mod:`.figures_coeff`.
 """
 
 from __future__ import annotations
@@ -17,25 +18,27 @@ FA, FP, SIG, KT = "$\\tilde F_A$", "$\\tilde F_P$", "$\\tilde\\sigma$", "$\\tild
 LEGEND = 8          # legend font size (points)
 
 
-def plt_():
-    """matplotlib.pyplot on the Agg backend."""
-    import matplotlib
+def subplots(nrows=1, ncols=1, **kw):
+    """A new figure and its axes (``matplotlib.figure.Figure``: no pyplot state, so nothing is
+    left open when a figure fails, and no backend is chosen for the caller)."""
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+    fig = Figure(figsize=kw.pop("figsize", None))
+    return fig, fig.subplots(nrows, ncols, **kw)
 
 
 def save(fig, out_dir, name):
-    """Write ``fig`` atomically as ``out_dir/name`` and close it; returns the path."""
-    plt = plt_()
+    """Write ``fig`` atomically as ``out_dir/name``; returns the path."""
     p = os.path.join(out_dir, name)
-    try:
-        save_figure(fig, p, "writing the report")   # atomic; a full disk is one line
-    finally:
-        plt.close(fig)
+    save_figure(fig, p, "writing the report")   # atomic; a full disk is one line
     return p
+
+
+def legend(ax, **kw):
+    """A legend where the axis has labelled artists (none: no legend, no warning)."""
+    handles, labels = ax.get_legend_handles_labels()
+    if labels:
+        ax.legend(fontsize=LEGEND, **kw)
 
 
 def say(ax, text):
@@ -53,8 +56,7 @@ def err(val, ci):
 
 def curves(jobs, out_dir, name="curves.png"):
     """Force and contact area against indentation, loading and unloading, for chosen jobs."""
-    plt = plt_()
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    fig, (a1, a2) = subplots(1, 2, figsize=(11, 4.4))
     drawn = 0
     for i, j in enumerate(jobs):
         col = f"C{i % 10}"
@@ -79,7 +81,7 @@ def curves(jobs, out_dir, name="curves.png"):
     a2.set_ylabel("contact area fraction")
     a2.set_title("contact area; solid: loading, dashed: unloading", fontsize=10)
     if drawn:
-        a1.legend(fontsize=LEGEND)
+        legend(a1)
     fig.tight_layout()
     return save(fig, out_dir, name)
 
@@ -102,10 +104,9 @@ def _rise_lines(ax, g, col, linear):
 def fa_vs_fp(data, out_dir, name="FA_vs_FP.png"):
     """F~_A against F~_P per k~: linear axes (the paper's) and log-log; seed means, bars the
     seed range, dashed the plateau, dotted the c chord (linear) and the c0 line (log)."""
-    plt = plt_()
     ks = list(data.studies)
     nrow = max(len(ks), 1)
-    fig, axes = plt.subplots(nrow, 2, figsize=(12, 3.9 * nrow), squeeze=False)
+    fig, axes = subplots(nrow, 2, figsize=(12, 3.9 * nrow), squeeze=False)
     if not ks:
         for ax in axes.flat:
             say(ax, "no done job with finite forces: nothing to draw")
@@ -141,7 +142,7 @@ def fa_vs_fp(data, out_dir, name="FA_vs_FP.png"):
                 ax.set_yscale("log")
             for i, g in enumerate(groups):
                 _rise_lines(ax, g, f"C{i % 10}", linear)
-            ax.legend(fontsize=LEGEND, ncol=1 if len(groups) < 6 else 2)
+            legend(ax, ncol=1 if len(groups) < 6 else 2)
         row[0].set_title(f"{KT} = {k:g}: linear axes (as the paper); dotted: the c chord",
                          fontsize=10)
         row[1].set_title(f"{KT} = {k:g}: log axes; dotted: first-contact slope c$_0$",
@@ -159,14 +160,13 @@ def machine(jobs, out_dir, name="machine.png"):
     """F~_A (the peak tension) and F_jump (the final jump-off) against the machine stiffness
     k~_m, seed means per (k~, sigma~, preload), for a grid that sweeps ``k_machine``; a rigid
     machine (no jump) is left out of F_jump."""
-    plt = plt_()
     by: dict = {}
     for j in jobs:
         km = float(j.get("k_machine", math.inf))
         if j.get("status") == "done" and math.isfinite(km):
             key = (j["k_tilde"], j["sigma_tilde"], j["preload"])
             by.setdefault(key, {}).setdefault(km, []).append(j)
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    fig, ax = subplots(figsize=(6.4, 4.4))
     for i, (key, lev) in enumerate(sorted(by.items())):
         kms = sorted(lev)
         col = f"C{i % 10}"
@@ -178,7 +178,7 @@ def machine(jobs, out_dir, name="machine.png"):
         ax.plot(kms, fj, "o-", color=col, ms=3, lw=1, label=lab)
     if by:
         ax.set_xscale("log")
-        ax.legend(fontsize=LEGEND)
+        legend(ax)
     else:
         say(ax, "no done job with a compliant machine")
     ax.set_xlabel("machine stiffness $\\tilde k_m$")

@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from ..laws.alphabeta import model as ab_model
-from .figures import FA, KT, LEGEND, SIG, err, plt_, save, say
+from .figures import FA, KT, SIG, err, legend, save, say, subplots
 
 
 def _ab_label(k, st) -> str:
@@ -25,8 +25,7 @@ def _ab_label(k, st) -> str:
 
 def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
     """c against sigma~, linear and log-log, seed intervals, with the fitted lines."""
-    plt = plt_()
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.6))
+    fig, (a1, a2) = subplots(1, 2, figsize=(12, 4.6))
     drawn = False
     zeros = []
     for i, (k, st) in enumerate(data.studies.items()):
@@ -68,7 +67,7 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
             a2.annotate("c = 0", (s, 0), xycoords=("data", "axes fraction"), xytext=(0, 8),
                         textcoords="offset points", ha="center", fontsize=8, color=col,
                         arrowprops={"arrowstyle": "->", "color": col})
-        a1.legend(fontsize=LEGEND, loc="upper right")
+        legend(a1, loc="upper right")
     for ax in (a1, a2):
         ax.set_xlabel(f"roughness {SIG}")
         ax.set_ylabel("adhesion coefficient c (chord over the first half of the rise)")
@@ -81,8 +80,7 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
 
 def c0_vs_sigma(data, out_dir, name="c0_vs_sigma.png"):
     """The first-contact slope c0 against sigma~ per k~ (log-log), seed intervals."""
-    plt = plt_()
-    fig, ax = plt.subplots(figsize=(6.6, 4.6))
+    fig, ax = subplots(figsize=(6.6, 4.6))
     drawn = False
     for i, (k, st) in enumerate(data.studies.items()):
         sel = [g for g in st.groups if math.isfinite(g.reading.c0) and g.reading.c0 > 0
@@ -95,7 +93,7 @@ def c0_vs_sigma(data, out_dir, name="c0_vs_sigma.png"):
     if drawn:
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.legend(fontsize=LEGEND)
+        legend(ax)
     else:
         say(ax, "no c₀ > 0 to draw (no rise, or no σ̃ > 0)")
     ax.set_xlabel(f"roughness {SIG}")
@@ -108,8 +106,7 @@ def c0_vs_sigma(data, out_dir, name="c0_vs_sigma.png"):
 def plateau(data, out_dir, name="plateau.png"):
     """The plateau against sigma~ (per k~) and against k~ (per sigma~), seed intervals; open
     markers: plateau not reached (a lower bound)."""
-    plt = plt_()
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.6))
+    fig, (a1, a2) = subplots(1, 2, figsize=(12, 4.6))
     ks = list(data.studies)
     sigmas = sorted({g.sigma_tilde for st in data.studies.values() for g in st.groups})
     allg = [g for st in data.studies.values() for g in st.groups if math.isfinite(g.reading.plateau)]
@@ -145,8 +142,8 @@ def plateau(data, out_dir, name="plateau.png"):
             a1.set_xscale("log")
         if min(ks) > 0 and max(ks) / min(ks) >= 10:
             a2.set_xscale("log")
-        a1.legend(fontsize=LEGEND)
-        a2.legend(fontsize=LEGEND)
+        legend(a1)
+        legend(a2)
     a1.set_xlabel(f"roughness {SIG}")
     a2.set_xlabel(f"pillar stiffness {KT}")
     for ax in (a1, a2):
@@ -159,8 +156,7 @@ def plateau(data, out_dir, name="plateau.png"):
 
 def alpha_sigma_c(data, out_dir, name="alpha_sigma_c.png"):
     """alpha, beta and sigma~_c against k~, seed intervals; missing values say why."""
-    plt = plt_()
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.4))
+    fig, axes = subplots(1, 3, figsize=(14, 4.4))
     ks = [k for k, st in data.studies.items() if st.ab.ok]
     why = "; ".join(f"{KT}={k:g}: {st.ab.notes[0]}" for k, st in data.studies.items()
                     if not st.ab.ok and st.ab.notes)
