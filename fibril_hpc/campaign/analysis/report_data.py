@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..laws import fit as _fit
-from ..laws.intervals import preset_bias
+from ..laws.intervals import dominant, preset_bias
 from ..laws.reading import levels
 from ..laws.study import N_BOOT, study
 
@@ -153,6 +153,17 @@ def headline(d: ReportData) -> list:
                                         for k in missing if d.studies[k].ab.notes)
                      + (f". Left out of the fit: {why}" if why else "") + ". " + GRID_ADVICE
                      + ".")
+    dom: dict = {}
+    for st in d.studies.values():
+        for g in st.groups:
+            for name, v, ci in (("plateau", g.reading.plateau, g.plateau_ci),
+                                ("c", g.reading.c, g.c_ci)):
+                dom.setdefault(name, []).append(dominant(v, ci, d.bias))
+    if any(x != "unknown" for v in dom.values() for x in v):
+        lines.append("Larger error: " + "; ".join(
+            f"{name}: the seeds in {v.count('seeds')}, the discretisation in "
+            f"{v.count('discretisation')} of {len(v)} (k~, sigma~)" for name, v in dom.items())
+            + ".")
     if math.isfinite(d.bias):
         lines.append(f"Discretisation bias: {d.bias_note} ({100 * d.bias:+.1f} % on every "
                      "force-like number; measured on one scene, carried over as an assumption).")
