@@ -173,8 +173,9 @@ def _crossing(lv: Levels, target: float) -> tuple[float, int]:
     return math.nan, len(lv)
 
 
-def read_group(seed, preload, F_P, F_A) -> Reading:
-    """The plateau, c and c0 of one (k~, sigma~) from its done jobs (one entry per job)."""
+def read_group(seed, preload, F_P, F_A, half: float = HALF) -> Reading:
+    """The plateau, c and c0 of one (k~, sigma~) from its done jobs (one entry per job); ``half``:
+    the fraction of the rise whose chord is c (the report's 1/2; other values for studies)."""
     lv = levels(seed, preload, F_P, F_A)
     n_seeds = int(np.unique(np.asarray(seed)).size)
     nan = math.nan
@@ -211,9 +212,9 @@ def read_group(seed, preload, F_P, F_A) -> Reading:
         return Reading(P, state, float(lv.F_P[0]), int(members.size), 0.0, 0.0, x0, y0, nan,
                        c_detect, len(lv), 0, top_lo, top_hi, notes, list(notes))
     c_notes = [n for n in notes if n.startswith("plateau not reached")]
-    half = y0 + HALF * (P - y0)
-    xh, _ = _crossing(lv, half)
-    c = (half - y0) / (xh - x0) if math.isfinite(xh) and xh > x0 else nan
+    y_half = y0 + half * (P - y0)
+    xh, _ = _crossing(lv, y_half)
+    c = (y_half - y0) / (xh - x0) if math.isfinite(xh) and xh > x0 else nan
     quarter = y0 + QUARTER * (P - y0)
     first = [0]
     while first[-1] + 1 < len(lv) and lv.F_A[first[-1] + 1] <= quarter:

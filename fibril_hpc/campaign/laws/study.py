@@ -19,7 +19,7 @@ import numpy as np
 
 from .alphabeta import ABFit, fit_alpha_beta, t_interval
 from .intervals import percentile_interval, replicate_sd, seed_replicates
-from .reading import Reading, read_group
+from .reading import HALF, Reading, read_group
 
 N_BOOT = 400
 NAN2 = (math.nan, math.nan)
@@ -84,13 +84,15 @@ def _ab_points(groups, cs=None):
     return s, c, sd
 
 
-def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 0) -> KStudy:
-    """``points``: {sigma~: (seed, preload, F_P, F_A) arrays of done jobs} of one k~."""
+def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 0,
+            half: float = HALF) -> KStudy:
+    """``points``: {sigma~: (seed, preload, F_P, F_A) arrays of done jobs} of one k~; ``half``:
+    the fraction of the rise that defines c (:func:`.reading.read_group`)."""
     pts = {float(s): tuple(np.asarray(a) for a in p) for s, p in sorted(points.items())}
     sigmas = list(pts)
     groups = []
     for s in sigmas:
-        r = read_group(*pts[s])
+        r = read_group(*pts[s], half=half)
         why = _why_out(s, r)
         groups.append(GroupResult(float(k_tilde), s, r, int(np.unique(pts[s][0]).size),
                                   in_fit=not why, why_out=why))
@@ -100,7 +102,7 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     def stat(picked):
         out = []
         for s in sigmas:
-            r = read_group(*_resample(pts[s], picked))
+            r = read_group(*_resample(pts[s], picked), half=half)
             out += [r.plateau, r.c, r.c0]
         return np.array(out)
 
@@ -148,10 +150,10 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     return st
 
 
-def study(points: dict, n_boot: int = N_BOOT, rng_seed: int = 0) -> dict:
+def study(points: dict, n_boot: int = N_BOOT, rng_seed: int = 0, half: float = HALF) -> dict:
     """``points``: {(k~, sigma~): (seed, preload, F_P, F_A)} -> {k~: :class:`KStudy`}, k~
     descending (stiff first, as the paper's figures)."""
     by_k: dict = {}
     for (k, s), p in points.items():
         by_k.setdefault(float(k), {})[float(s)] = p
-    return {k: study_k(k, by_k[k], n_boot, rng_seed) for k in sorted(by_k, reverse=True)}
+    return {k: study_k(k, by_k[k], n_boot, rng_seed, half) for k in sorted(by_k, reverse=True)}
