@@ -159,33 +159,54 @@ def plateau_preloads(a: AutoPreloads, tried, results) -> list:
     return [nxt] if nxt > hi and nxt not in {_round3(p) for p in tried} else []
 
 
-def path_todo(a: AutoPreloads, results, retry_failed=False, failed=()) -> tuple[list, int]:
-    """Replay the rounds of one path from its records: (preloads to run now, round number).
+@dataclass
+class Replay:
+    """One path replayed from its records (:func:`replay`)."""
+
+    todo: list                      # preloads to run now (empty: the path is finished)
+    rounds: int                     # index of the last kink round run (``rounds`` if limited)
+    kink_tried: list                # preloads of the kink rounds (start included)
+    plateau_tried: list             # preloads of the plateau rounds
+
+
+def replay(a: AutoPreloads, results, retry_failed=False, failed=()) -> Replay:
+    """Replay the rounds of one path from its records: the kink rounds (at most ``rounds``,
+    :func:`next_preloads`), then the plateau rounds (:func:`plateau_preloads`).
 
     ``results``: {preload: (F_P, F_A)} of the done jobs of the path; ``failed``: preloads recorded
-    as failed (rerun only with ``retry_failed``). An empty list: the path is finished. The kink
-    rounds (at most ``rounds``) come first, then the plateau rounds (:func:`plateau_preloads`);
-    the round number of a finished path is its last round's, or ``rounds`` when the kink rounds
-    hit their limit."""
-    tried: list = []
+    as failed (rerun only with ``retry_failed``)."""
+    kink: list = []
+    plateau: list = []
     cur = list(a.start)
-    r = 0                           # rounds completed
-    kink_rounds, limit_hit = True, False
+    r = 0                           # kink rounds completed
+    in_kink, limit_hit = True, False
     while True:
-        tried += cur
+        (kink if in_kink else plateau).extend(cur)
         missing = [p for p in cur if p not in results and (retry_failed or p not in failed)]
         if missing:
-            return missing, r
-        r += 1
-        cur = next_preloads(a, tried, results) if kink_rounds else []
-        if cur and r >= a.rounds:   # the round limit: the kink rounds stop here
-            cur, limit_hit = [], True
-        if not cur:
-            kink_rounds = False
+            return Replay(missing, r if in_kink else max(r - 1, 0), kink, plateau)
+        tried = kink + plateau
+        if in_kink:
+            r += 1
+            cur = next_preloads(a, tried, results)
+            if cur and r >= a.rounds:   # the round limit: the kink rounds stop here
+                cur, limit_hit = [], True
+            if not cur:
+                in_kink = False
+        else:
+            cur = []
+        if not in_kink:
             cur = plateau_preloads(a, tried, results)
             if not cur:
-                # the last round's index (a.rounds when the kink rounds hit their limit)
-                return [], a.rounds if limit_hit else r - 1
+                return Replay([], a.rounds if limit_hit else r - 1, kink, plateau)
+
+
+def path_todo(a: AutoPreloads, results, retry_failed=False, failed=()) -> tuple[list, int]:
+    """(preloads to run now, round number) of one path, replayed from its records
+    (:func:`replay`). An empty list: the path is finished; its round number is then its last
+    kink round's index, or ``rounds`` when the kink rounds hit their limit."""
+    rp = replay(a, results, retry_failed, failed)
+    return rp.todo, rp.rounds
 
 
 def results_by_path(records, paths) -> tuple[dict, dict]:
