@@ -12,6 +12,7 @@ from campaign_helpers import TINY, results_by_key, run, same_numbers, start, wri
 from fibril_hpc import load_campaign
 from fibril_hpc.campaign import load_spec
 from fibril_hpc.campaign.laws import fit
+from fibril_hpc.campaign.laws.reading import path_plateau_reached
 from fibril_hpc.campaign.plan import auto
 from fibril_hpc.campaign.run.planner import FixedPlanner
 from fibril_hpc.cli.campaign import main
@@ -46,6 +47,15 @@ def test_auto_preloads_bracket_the_kink(auto_run):
         pre = sorted(j["preload"] for j in jobs)
         assert all(j["status"] == "done" for j in jobs)
         assert set(spec.auto.start) <= set(pre), p
+        res_all = {j["preload"]: (j["F_P"], j["F_A"]) for j in jobs}
+        rp = auto.replay(spec.auto, res_all)
+        assert sorted(rp.kink_tried + rp.plateau_tried) == pre
+        # the plateau rounds ran until F~_A stopped rising at the largest preload (or max)
+        top = sorted(jobs, key=lambda j: j["preload"])
+        assert path_plateau_reached([j["F_P"] for j in top], [j["F_A"] for j in top]) or \
+            pre[-1] >= spec.auto.max, (p, pre)
+        # the kink rounds: judged on their own preloads (a plateau round moves the law's kink)
+        jobs = [j for j in jobs if j["preload"] in rp.kink_tried]
         f = fit.fit_law([j["F_P"] for j in jobs], [j["F_A"] for j in jobs], fit.DEFAULT_LAW)
         js = sorted(jobs, key=lambda j: j["preload"])
         below = [j["preload"] for j in js if j["F_P"] < f.kink]
@@ -62,8 +72,7 @@ def test_auto_preloads_bracket_the_kink(auto_run):
             task = spec.auto_task(p, [j["preload"]])
             assert task.jobs[0].key == j["key"]
         # the choice is a function of the records: replaying them asks for nothing more
-        res = {j["preload"]: (j["F_P"], j["F_A"]) for j in jobs}
-        todo, rounds = auto.path_todo(spec.auto, res)
+        todo, rounds = auto.path_todo(spec.auto, res_all)
         assert todo == [] and rounds < spec.auto.rounds
     assert added >= len(paths)          # it placed preloads of its own
 

@@ -2,7 +2,8 @@
 
 Rooms, lowest first (each one's docstring says what it owns; ``lint-imports`` checks the order):
 
-- :mod:`.laws`: the fitted laws of F~_A(F~_P) and c(sigma~), pure functions;
+- :mod:`.laws`: the science of F~_A(F~_P): laws, the plateau, c, c0, alpha/beta, seed
+  intervals; pure functions;
 - :mod:`.plan`: the grid and its job keys, ``F_P: auto``, the ``--dry-run`` cost estimate;
 - :mod:`.storage`: job records, the journal, checksums, the HDF5 file, the single writer,
   ``verify``/``salvage`` and ``merge``;

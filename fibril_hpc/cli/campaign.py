@@ -58,14 +58,12 @@ def _parser() -> Parser:
     s = sub.add_parser("status", help="progress of a campaign file (safe while it is written)")
     s.add_argument("file")
     s.add_argument("--json", action="store_true")
-    rp = sub.add_parser("report", help="plots and the alpha, beta, sigma_c table")
+    rp = sub.add_parser("report", help="plateau, c, c0, alpha, beta, sigma_c: tables, figures, "
+                                       "README.md and report.html (docs/report.md)")
     rp.add_argument("file")
     rp.add_argument("--out", required=True, metavar="DIR")
-    rp.add_argument("--law", default="tanh", choices=("tanh", "min"),
-                    help="law fitted per (k~, sigma~): tanh (F~_A = plateau tanh(c F~_P / "
-                         "plateau), the default) or min (min(c F~_P, plateau)); README, 'Report'")
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
-                    help="bootstrap resamples over seeds for the intervals (default 400)")
+                    help="bootstrap resamples over seeds for the seed intervals (default 400)")
     e = sub.add_parser("export", help="one row per job: CSV and/or Parquet")
     e.add_argument("file")
     e.add_argument("--csv", metavar="OUT.csv", help="write a CSV file")
@@ -310,7 +308,7 @@ def cmd_report(args) -> int:
             from None
     if not os.access(args.out, os.W_OK):
         raise ConfigError("--out", args.out, "a writable folder")
-    files = write_report(args.file, args.out, law=args.law, n_boot=args.n_boot)
+    files = write_report(args.file, args.out, n_boot=args.n_boot)
     for f in files:
         print(f)
     return EXIT_OK

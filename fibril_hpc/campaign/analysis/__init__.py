@@ -1,8 +1,10 @@
 """Reading a campaign back and what it found: data frames, status, exports, the report.
 
 Owns :mod:`.data` (:func:`~.data.load_campaign`), :mod:`.status` (what a file holds and what is
-left), :mod:`.export` (CSV, Parquet), :mod:`.report` (the page: fits, figures, tables),
-:mod:`.figures` and :mod:`.tables`.
+left), :mod:`.export` (CSV, Parquet), :mod:`.report` (the report's orchestrator),
+:mod:`.report_data` (its numbers, from :mod:`fibril_hpc.campaign.laws`), :mod:`.figures` and
+:mod:`.figures_coeff` (its figures), :mod:`.tables` and :mod:`.page` (``README.md`` and the
+self-contained ``report.html``).
 
 May import: :mod:`fibril_hpc.campaign.storage` and below. Independent of
 :mod:`fibril_hpc.campaign.run`.

@@ -1,51 +1,33 @@
-"""``fibril-campaign report``: fits, figures, tables and one page showing them all.
+"""``fibril-campaign report``: readings, fits, figures, tables and two pages showing them all.
 
-The orchestrator: it reads the campaign (:func:`.data.load_campaign`), fits the "linear, then
-plateau" law per (k~, sigma~) and c(sigma~) = alpha/sigma~ - beta per k~
-(:mod:`fibril_hpc.campaign.laws.fit`), draws
-the figures (:mod:`.figures`), writes the tables (:mod:`.tables`) and ``README.md``, the page
-that shows every figure and table and states the criteria.
+The orchestrator: it reads the campaign (:func:`.data.load_campaign`), turns it into numbers
+(:func:`.report_data.build`: the plateau, c, c0 per (k~, sigma~), alpha/beta per k~, seed
+intervals, the preset's bias, the law comparison), draws the figures (:mod:`.figures`,
+:mod:`.figures_coeff`), writes the tables (:mod:`.tables`) as CSV, and the pages
+(:mod:`.page`): ``README.md`` and the self-contained ``report.html``. Any file ``status``
+reads, it reads: a campaign with nothing to fit gets a page that says why.
 """
 
 from __future__ import annotations
 
 import os
+import time
 
-import numpy as np
-
-from ...errors import StoreError
 from ...io.files import write_text_atomically
-from ..laws import fit as _fit
-from . import figures, tables
+from . import figures, figures_coeff, page, tables
+from ..laws.study import N_BOOT
 from .data import load_campaign
+from .report_data import build
 
 
-def _means(jobs) -> dict:
-    """{(k~, sigma~): seed statistics per preload level} of done jobs."""
-    by: dict = {}
-    for j in jobs:
-        if j.get("status") == "done":
-            by.setdefault((j["k_tilde"], j["sigma_tilde"]), {}).setdefault(j["preload"], []) \
-                .append(j)
-    out = {}
-    for key, lev in by.items():
-        pre = sorted(lev)
-        fa = [np.array([j["F_A"] for j in lev[p]]) for p in pre]
-        out[key] = {"preload": np.array(pre),
-                    "F_P": np.array([np.mean([j["F_P"] for j in lev[p]]) for p in pre]),
-                    "F_A": np.array([a.mean() for a in fa]),
-                    "F_A_min": np.array([a.min() for a in fa]),
-                    "F_A_max": np.array([a.max() for a in fa]),
-                    "n": np.array([a.size for a in fa])}
-    return out
-
-
-def chosen_curve_jobs(jobs, fits, per_k: int = 1) -> list:
+def chosen_curve_jobs(jobs, studies, per_k: int = 1) -> list:
     """Jobs whose loading/unloading curves are drawn: per k~, the middle sigma~, the first seed,
     the largest preload."""
     out = []
-    for k, e in fits.items():
-        sig = [g.sigma_tilde for g in e["groups"]]
+    for k, st in studies.items():
+        sig = [g.sigma_tilde for g in st.groups]
+        if not sig:
+            continue
         s = sig[len(sig) // 2]
         cand = [j for j in jobs if j.get("status") == "done" and j["k_tilde"] == k
                 and j["sigma_tilde"] == s and j.get("loading")]
@@ -57,66 +39,40 @@ def chosen_curve_jobs(jobs, fits, per_k: int = 1) -> list:
     return out
 
 
-def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
-                 n_boot: int = _fit.N_BOOT) -> list:
-    """Write every figure, table and ``README.md`` of the campaign ``path`` into ``out_dir``;
-    returns the paths written."""
+def write_report(path: str, out_dir: str, n_boot: int = N_BOOT) -> list:
+    """Write every figure, table, ``README.md`` and ``report.html`` of the campaign ``path``
+    into ``out_dir``; returns the paths written."""
+    t0 = time.perf_counter()
     c = load_campaign(path, curves=True)
-    kms = tables.machines(c.jobs)
-    # a grid sweeping the machine repeats every (k~, sigma~, preload, seed): the fits take the
-    # stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
-    jobs = [j for j in c.jobs if not kms or j.get("k_machine") == kms[0]]
-    # the other laws enter only the law comparison (residuals, resolved groups): no bootstrap
-    fits_by_law = {lw: _fit.fit_campaign(jobs, law=lw, n_boot=n_boot if lw == law else 0)
-                   for lw in (law,) + tuple(x for x in _fit.LAWS if x != law)}
-    fits = fits_by_law[law]
-    if not fits:
-        raise StoreError(f"{path}: no done jobs to report on")
+    d = build(c, path, n_boot=n_boot)
     os.makedirs(out_dir, exist_ok=True)
-    means = _means(jobs)
+    kms = tables.machines(c.jobs)
     figs = [
+        ("Pull-off force against preload: linear axes (as the paper) and log axes",
+         figures.fa_vs_fp(d, out_dir)),
+        ("Adhesion coefficient c against roughness, linear and log–log, with c = max(α/σ̃ − β, 0)",
+         figures_coeff.c_vs_sigma(d, out_dir)),
+        ("First-contact slope c₀ against roughness", figures_coeff.c0_vs_sigma(d, out_dir)),
+        ("Plateau against roughness and against stiffness", figures_coeff.plateau(d, out_dir)),
+        ("α, β and σ̃_c against stiffness", figures_coeff.alpha_sigma_c(d, out_dir)),
         ("Force and contact area against indentation (loading and unloading)",
-         figures.curves(chosen_curve_jobs(jobs, fits), out_dir)),
-        ("Pull-off force against preload with the fitted law", figures.fa_vs_fp(fits, means,
-                                                                               out_dir)),
-        ("Adhesion coefficient c against roughness, with the α/σ̃ − β fits",
-         figures.c_vs_sigma(fits, out_dir)),
-        ("Plateau against roughness and against stiffness", figures.plateau(fits, out_dir)),
-        ("Plateau over (σ̃, k̃)", figures.plateau_map(fits, out_dir)),
-        ("α and σ̃_c against k̃", figures.alpha_sigma_c(fits, out_dir)),
+         figures.curves(chosen_curve_jobs(c.jobs, d.studies), out_dir)),
     ]
     if len(kms) > 1:
         figs.append(("Peak tension and final jump-off against the machine stiffness",
                      figures.machine(c.jobs, out_dir)))
-    texts = {}
-    made = [("alpha_beta", tables.alpha_beta_table(fits)), ("fits", tables.groups_table(fits)),
-            ("law_comparison", tables.law_comparison(fits_by_law))]
+    tabs = [tables.alpha_beta(d), tables.plateau(d), tables.coefficients(d),
+            tables.law_comparison(d)]
     if len(kms) > 1:
-        made.append(("machine", tables.machine_table(c.jobs)))
-    for name, (csv, md) in made:
-        texts[name] = md
-        for ext, t in (("csv", csv), ("md", md)):
-            p = os.path.join(out_dir, f"{name}.{ext}")
-            write_text_atomically(p, t, "writing the report")
-    files = [p for _, p in figs] + [os.path.join(out_dir, f"{n}.{e}") for n in texts
-                                    for e in ("csv", "md")]
-    page = os.path.join(out_dir, "README.md")
-    n_done = sum(1 for j in c.jobs if j.get("status") == "done")
-    crit = _fit.__doc__.split("**Law per", 1)[1]
-    text = (f"# Report of `{os.path.abspath(path)}`\n\n{len(c.jobs)} job records "
-            f"({n_done} done), campaign `{c.meta.get('campaign_hash')}`. Fitted law: "
-            f"**{law}**; intervals are 95 % ({n_boot} bootstrap resamples over seeds where there "
-            f"are several).\n\n## Criteria\n\n**Law per{crit}\n"
-            f"## α, β, σ̃_c per k̃ (`alpha_beta.csv`)\n\n{texts['alpha_beta']}\n"
-            f"## The laws compared (`law_comparison.csv`)\n\n{texts['law_comparison']}\n"
-            f"## Fit per (k̃, σ̃) (`fits.csv`)\n\n{texts['fits']}\n")
-    if "machine" in texts:
-        text += (f"## Loading machines (`machine.csv`)\n\nThe grid sweeps the machine stiffness "
-                 f"k̃_m ({', '.join(f'{k:g}' for k in kms)}); the fits above use the jobs of "
-                 f"k̃_m = {kms[0]:g}. F̃_A is the peak tension, F̃_jump the tension at the "
-                 f"jump-off of the final separation (means over seeds).\n\n{texts['machine']}\n")
-    text += "## Figures\n\n"
-    text += "".join(f"### {title}\n\n![{title}]({os.path.basename(p)})\n\n" for title, p in figs)
-    write_text_atomically(page, text, "writing the report")
-    files.append(page)
-    return files
+        tabs.append(tables.machine_table(c.jobs))
+    files = [p for _, p in figs]
+    for t in tabs:
+        p = os.path.join(out_dir, f"{t.name}.csv")
+        write_text_atomically(p, t.csv(), "writing the report")
+        files.append(p)
+    seconds = time.perf_counter() - t0
+    md = os.path.join(out_dir, "README.md")
+    write_text_atomically(md, page.markdown(d, tabs, figs, seconds), "writing the report")
+    htm = os.path.join(out_dir, "report.html")
+    write_text_atomically(htm, page.html_page(d, tabs, figs, seconds), "writing the report")
+    return files + [md, htm]

@@ -1,117 +1,212 @@
-"""The report's tables, as (CSV text, Markdown text) pairs, from the fits of
-:mod:`fibril_hpc.campaign.laws.fit`.
+"""The report's tables from :class:`.report_data.ReportData`: each a :class:`Table` that renders
+as CSV (full precision, one column per number), Markdown and HTML.
 
-An undefined value is an empty CSV cell and an em dash in Markdown; the row's ``note`` says why.
+An undefined value is an empty CSV cell and an em dash on the page; the row's note says why.
+Intervals are seed intervals (:mod:`.laws.intervals`); "bias" is the preset's discretisation
+bias applied to the value; "dominant" says which of the two is larger.
 """
 
 from __future__ import annotations
 
 import csv
+import html
 import io
 import math
+import re
+from dataclasses import dataclass, field
+
+from ..laws.intervals import dominant
 
 
-def _num(v) -> str:
+@dataclass
+class Table:
+    """A table: CSV rows (the first is the header) and page rows (header first)."""
+
+    name: str
+    title: str
+    csv_rows: list = field(default_factory=list)
+    page_rows: list = field(default_factory=list)
+
+    def csv(self) -> str:
+        """The CSV text."""
+        buf = io.StringIO()
+        csv.writer(buf, lineterminator="\n").writerows(self.csv_rows)
+        return buf.getvalue()
+
+    def markdown(self) -> str:
+        """The Markdown table (pipes in cells escaped)."""
+        rows = [[str(c).replace("|", "\\|").replace("\n", " ") for c in r] for r in self.page_rows]
+        if not rows:
+            return ""
+        out = ["| " + " | ".join(rows[0]) + " |", "|" + " --- |" * len(rows[0])]
+        out += ["| " + " | ".join(r) + " |" for r in rows[1:]]
+        return "\n".join(out) + "\n"
+
+    def html(self) -> str:
+        """The HTML table."""
+        if not self.page_rows:
+            return ""
+        def cell(c):                # **x** (a flag on the page) becomes bold
+            return re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", html.escape(str(c)))
+
+        head = "".join(f"<th>{cell(c)}</th>" for c in self.page_rows[0])
+        body = "".join("<tr>" + "".join(f"<td>{cell(c)}</td>" for c in r) + "</tr>"
+                       for r in self.page_rows[1:])
+        return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def num(v) -> str:
+    """A CSV number: full precision, empty when undefined."""
     return repr(float(v)) if v is not None and math.isfinite(v) else ""
 
 
-def _md(v, fmt=".4g") -> str:
-    return format(v, fmt) if v is not None and math.isfinite(v) else "—"
-
-
-def _ci_md(ci, fmt=".3g") -> str:
-    lo, hi = ci
-    if not (math.isfinite(lo) or math.isfinite(hi)):
+def fmt(v, f=".4g") -> str:
+    """A page number: an em dash when undefined, ∞ for infinity."""
+    if v is None or (isinstance(v, float) and math.isnan(v)):
         return "—"
-    return f"[{_md(lo, fmt)}, {_md(hi, fmt) if math.isfinite(hi) else '∞'}]"
+    if math.isinf(v):
+        return "∞" if v > 0 else "−∞"
+    return format(v, f)
 
 
-def _val_ci(v, ci, fmt=".4g") -> str:
-    """'value [lo, hi]'; an undefined value is one em dash."""
+def val_ci(v, ci, f=".4g") -> str:
+    """'value [lo, hi]'; an undefined value is one em dash; no interval: the value alone."""
     if v is None or not math.isfinite(v):
         return "—"
-    return f"{_md(v, fmt)} {_ci_md(ci)}"
+    if all(isinstance(x, float) and math.isnan(x) for x in ci):
+        return fmt(v, f)
+    return f"{fmt(v, f)} [{fmt(ci[0], '.3g')}, {fmt(ci[1], '.3g')}]"
 
 
-def _csv(rows) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerows(rows)
-    return buf.getvalue()
+def bias_cell(v, bias) -> str:
+    """The bias of ``v`` (relative bias x value), or an em dash when unknown."""
+    if not (math.isfinite(bias) and v is not None and math.isfinite(v)):
+        return "—"
+    if v == 0:
+        return "0"
+    return f"{fmt(bias * v, '+.2g')} ({100 * bias:+.1f} %)"
 
 
-def alpha_beta_table(fits) -> tuple[str, str]:
-    """Table 1: alpha, beta, sigma~_c with 95 % intervals per k~."""
-    head = ["k_tilde", "alpha", "alpha_lo", "alpha_hi", "beta", "beta_lo", "beta_hi",
-            "sigma_tilde_c", "sigma_tilde_c_lo", "sigma_tilde_c_hi", "n_sigma_in_fit",
-            "sigmas_in_fit", "rms_residual_c", "chi2_reduced", "note"]
-    rows = [head]
-    md = ["| k̃ | α [95 % CI] | β [95 % CI] | σ̃_c = α/β [95 % CI] | σ̃ in fit | rms residual of c "
-          "| note |", "| --- | --- | --- | --- | --- | --- | --- |"]
-    for k, e in fits.items():
-        a = e["ab"]
-        rows.append([repr(float(k)), _num(a.alpha), _num(a.alpha_ci[0]), _num(a.alpha_ci[1]),
-                     _num(a.beta), _num(a.beta_ci[0]), _num(a.beta_ci[1]), _num(a.sigma_c),
-                     _num(a.sigma_c_ci[0]), _num(a.sigma_c_ci[1]), str(a.n_sigma),
-                     " ".join(f"{s:g}" for s in a.sigmas), _num(a.rms_residual),
-                     _num(a.chi2_red), a.note])
-        md.append(f"| {k:g} | {_val_ci(a.alpha, a.alpha_ci)} | {_val_ci(a.beta, a.beta_ci)} | "
-                  f"{_val_ci(a.sigma_c, a.sigma_c_ci)} | {a.n_sigma} "
-                  f"| {_md(a.rms_residual, '.3g')} | {a.note} |")
-    return _csv(rows), "\n".join(md) + "\n"
+def _ci_csv(ci) -> list:
+    return [num(ci[0]), num(ci[1])]
 
 
-def groups_table(fits) -> tuple[str, str]:
-    """Per (k~, sigma~): c, plateau, kink with intervals, the counts and flags."""
-    head = ["k_tilde", "sigma_tilde", "law", "c", "c_lo", "c_hi", "plateau", "plateau_lo",
-            "plateau_hi", "kink_F_P", "kink_lo", "kink_hi", "n_seeds", "n_preloads",
-            "n_below_kink", "n_above_kink", "resolved", "plateau_confirmed", "rms_log",
-            "rms_log_other_laws", "c_residual_of_alpha_beta_fit", "ci_method", "note"]
-    rows = [head]
-    md = ["| k̃ | σ̃ | c [95 % CI] | plateau F̃_A [95 % CI] | kink F̃_P [95 % CI] | below / above "
-          "kink | resolved | rms log F̃_A (other law) | c − (α/σ̃ − β) | note |",
-          "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
-    for k, e in fits.items():
-        ab = e["ab"]
-        resid = dict(zip(ab.sigmas, ab.residuals))
-        for g in e["groups"]:
-            r = resid.get(float(g.sigma_tilde), math.nan)
-            other = " ".join(f"{lw}={v:.4g}" for lw, v in g.rms_log_other.items())
-            rows.append([repr(float(k)), repr(float(g.sigma_tilde)), g.law, _num(g.c),
-                         _num(g.c_ci[0]), _num(g.c_ci[1]), _num(g.plateau),
-                         _num(g.plateau_ci[0]), _num(g.plateau_ci[1]), _num(g.kink),
-                         _num(g.kink_ci[0]), _num(g.kink_ci[1]), str(g.n_seeds),
-                         str(g.n_levels), str(g.n_below), str(g.n_above), str(g.resolved).lower(),
-                         str(g.plateau_confirmed).lower(), _num(g.rms_log), other, _num(r),
-                         g.ci_method, g.note])
-            md.append(f"| {k:g} | {g.sigma_tilde:g} | {_val_ci(g.c, g.c_ci)} | "
-                      f"{_val_ci(g.plateau, g.plateau_ci)} | {_val_ci(g.kink, g.kink_ci, '.3g')} "
-                      f"| {g.n_below} / {g.n_above} | "
-                      f"{'yes' if g.resolved else '**unresolved**'} | {_md(g.rms_log, '.3g')} "
-                      f"({other}) | {_md(r, '.3g')} | {g.note} |")
-    return _csv(rows), "\n".join(md) + "\n"
+def alpha_beta(d) -> Table:
+    """Per k~: alpha, beta, sigma~_c with seed intervals, the bias, quality and notes."""
+    t = Table("alpha_beta", "α, β, σ̃_c per k̃ (c = max(α/σ̃ − β, 0))")
+    t.csv_rows.append(["k_tilde", "alpha", "alpha_lo", "alpha_hi", "beta", "beta_lo", "beta_hi",
+                       "sigma_tilde_c", "sigma_tilde_c_lo", "sigma_tilde_c_hi",
+                       "bracket_c_positive_up_to", "bracket_c_zero_from", "n_sigma_in_fit",
+                       "n_c_zero", "chi2_per_dof", "poor_fit", "bias_rel", "dominant_alpha",
+                       "ci_method", "note"])
+    t.page_rows.append(["k̃", "α [seed CI]", "β [seed CI]", "σ̃_c = α/β [seed CI]",
+                        "data bracket of σ̃_c", "σ̃ in fit (c = 0)", "χ²/dof", "bias of α",
+                        "larger error", "note"])
+    for k, st in d.studies.items():
+        a = st.ab
+        note = "; ".join(a.notes + st.notes)
+        br = (f"({fmt(a.bracket[0], 'g')}, {fmt(a.bracket[1], 'g')})"
+              if any(math.isfinite(x) for x in a.bracket) else "—")
+        dom = dominant(a.alpha, st.alpha_ci, d.bias)
+        t.csv_rows.append([repr(k), num(a.alpha), *_ci_csv(st.alpha_ci), num(a.beta),
+                           *_ci_csv(st.beta_ci), num(a.sigma_c), *_ci_csv(st.sigma_c_ci),
+                           num(a.bracket[0]), num(a.bracket[1]), str(a.n_points), str(a.n_zero),
+                           num(a.chi2_red), str(a.poor).lower(), num(d.bias), dom, st.ci_method,
+                           note])
+        t.page_rows.append([f"{k:g}", val_ci(a.alpha, st.alpha_ci), val_ci(a.beta, st.beta_ci),
+                            val_ci(a.sigma_c, st.sigma_c_ci, ".3g"), br,
+                            f"{a.n_points} ({a.n_zero})", fmt(a.chi2_red, ".3g")
+                            + (" **poor fit**" if a.poor else ""), bias_cell(a.alpha, d.bias),
+                            dom, note])
+    return t
 
 
-def law_comparison(fits_by_law) -> tuple[str, str]:
-    """rms residual of log F~_A of each law over all (k~, sigma~), and how often each fits best."""
-    laws = list(fits_by_law)
-    rows = [["law", "rms_log_all", "groups_best", "groups", "resolved_groups"]]
-    md = ["| law | rms residual of log F̃_A (all groups) | groups where it fits best | resolved "
-          "groups |", "| --- | --- | --- | --- |"]
-    per = {}
-    for lw in laws:
-        per[lw] = [(g.rms_log, g.resolved)
-                   for e in fits_by_law[lw].values() for g in e["groups"]]
-    n = len(per[laws[0]]) if laws else 0
-    for lw in laws:
-        r = [x for x, _ in per[lw] if math.isfinite(x)]
+def plateau(d) -> Table:
+    """Per (k~, sigma~): the plateau, its state, where it was read, the top preload's range."""
+    t = Table("plateau", "Plateau per (k̃, σ̃): the preload-insensitive F̃_A")
+    t.csv_rows.append(["k_tilde", "sigma_tilde", "plateau", "plateau_lo", "plateau_hi",
+                       "state", "read_from_F_P", "n_levels_in_plateau", "F_P_largest",
+                       "F_A_largest_seed_min", "F_A_largest_seed_max", "n_seeds", "bias_rel",
+                       "dominant", "note"])
+    t.page_rows.append(["k̃", "σ̃", "plateau [seed CI]", "state", "read from F̃_P ≥",
+                        "F̃_A at the largest F̃_P (seed range)", "seeds", "bias", "larger error",
+                        "note"])
+    for k, st in d.studies.items():
+        for g in st.groups:
+            r = g.reading
+            lv = d.means.get((k, g.sigma_tilde))
+            top = float(lv.F_P[-1]) if lv is not None and len(lv) else math.nan
+            dom = dominant(r.plateau, g.plateau_ci, d.bias)
+            note = "; ".join(r.notes)
+            t.csv_rows.append([repr(k), repr(g.sigma_tilde), num(r.plateau),
+                               *_ci_csv(g.plateau_ci), r.plateau_state, num(r.plateau_from),
+                               str(r.n_plateau), num(top), num(r.top_lo), num(r.top_hi),
+                               str(g.n_seeds), num(d.bias), dom, note])
+            state = r.plateau_state if r.plateau_state == "reached" else f"**{r.plateau_state}**"
+            t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", val_ci(r.plateau, g.plateau_ci),
+                                state, fmt(r.plateau_from, ".3g"),
+                                f"{fmt(r.top_lo)} … {fmt(r.top_hi)} at {fmt(top, '.3g')}",
+                                str(g.n_seeds), bias_cell(r.plateau, d.bias), dom, note])
+    return t
+
+
+def coefficients(d) -> Table:
+    """Per (k~, sigma~): c (the paper's adhesion coefficient) and c0 (first contact)."""
+    t = Table("coefficients", "Adhesion coefficient c and first-contact slope c₀ per (k̃, σ̃)")
+    t.csv_rows.append(["k_tilde", "sigma_tilde", "c", "c_lo", "c_hi", "F_P_half_rise",
+                       "c0", "c0_lo", "c0_hi", "F_P_smallest", "F_A_smallest", "c_detectable",
+                       "in_alpha_beta_fit", "c_minus_law", "bias_rel", "dominant_c", "why_out",
+                       "note"])
+    t.page_rows.append(["k̃", "σ̃", "c [seed CI]", "F̃_P at half rise", "c₀ [seed CI]",
+                        "smallest F̃_P", "in α/β fit: c − law", "bias of c", "larger error",
+                        "note"])
+    for k, st in d.studies.items():
+        res = dict(zip(st.ab.sigmas, st.ab.residuals))
+        for g in st.groups:
+            r = g.reading
+            rr = res.get(g.sigma_tilde, math.nan) if g.in_fit else math.nan
+            dom = dominant(r.c, g.c_ci, d.bias)
+            note = "; ".join(r.c_notes)
+            t.csv_rows.append([repr(k), repr(g.sigma_tilde), num(r.c), *_ci_csv(g.c_ci),
+                               num(r.F_P_half), num(r.c0), *_ci_csv(g.c0_ci), num(r.F_P0),
+                               num(r.F_A0), num(r.c_detect), str(g.in_fit).lower(), num(rr),
+                               num(d.bias), dom, g.why_out, note])
+            fitcell = (f"yes: {fmt(rr, '+.3g')}" if g.in_fit and st.ab.ok
+                       else ("yes (no fit)" if g.in_fit else f"no: {g.why_out}"))
+            t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", val_ci(r.c, g.c_ci),
+                                fmt(r.F_P_half, ".3g"), val_ci(r.c0, g.c0_ci), fmt(r.F_P0, ".3g"),
+                                fitcell, bias_cell(r.c, d.bias), dom, note])
+    return t
+
+
+def law_comparison(d) -> Table:
+    """Every law against the seed scatter and against the plateau read without a law."""
+    t = Table("law_comparison", "The laws compared (fitted in log F̃_A to every point)")
+    t.csv_rows.append(["law", "k_tilde", "sigma_tilde", "c_initial", "plateau", "kink",
+                       "rms_log", "seed_log_sd", "poor", "plateau_over_read_minus_1"])
+    t.page_rows.append(["law", "rms residual of log F̃_A (all groups)", "groups where it fits "
+                        "best", "groups with residuals > 2 seed sd (poor)",
+                        "its plateau against the read one (median, range)"])
+    laws = list(next(iter(d.laws.values()))) if d.laws else []
+    for law in laws:
+        rows = [(key, v[law]) for key, v in d.laws.items()]
+        for (k, s), lr in rows:
+            f = lr.fit
+            t.csv_rows.append([law, repr(k), repr(s), num(f.c), num(f.plateau), num(f.kink),
+                               num(f.rms_log), num(lr.seed_log_sd), str(lr.poor).lower(),
+                               num(lr.plateau_vs_read)])
+        r = [lr.fit.rms_log for _, lr in rows if math.isfinite(lr.fit.rms_log)]
         rms = math.sqrt(sum(x * x for x in r) / len(r)) if r else math.nan
-        best = sum(1 for i in range(n)
-                   if all(per[lw][i][0] <= per[o][i][0] for o in laws if o != lw))
-        res = sum(1 for _, ok in per[lw] if ok)
-        rows.append([lw, _num(rms), str(best), str(n), str(res)])
-        md.append(f"| {lw} | {_md(rms, '.4g')} | {best} of {n} | {res} |")
-    return _csv(rows), "\n".join(md) + "\n"
+        best = sum(1 for key, v in d.laws.items()
+                   if math.isfinite(v[law].fit.rms_log)
+                   and all(v[law].fit.rms_log <= o.fit.rms_log for o in v.values()
+                           if math.isfinite(o.fit.rms_log)))
+        rel = sorted(lr.plateau_vs_read for _, lr in rows if math.isfinite(lr.plateau_vs_read))
+        relc = (f"{100 * rel[len(rel) // 2]:+.1f} % ({100 * rel[0]:+.0f} … {100 * rel[-1]:+.0f} %)"
+                if rel else "—")
+        t.page_rows.append([law, fmt(rms, ".3g"), f"{best} of {len(rows)}",
+                            str(sum(lr.poor for _, lr in rows)), relc])
+    return t
 
 
 def machines(jobs) -> list:
@@ -120,21 +215,20 @@ def machines(jobs) -> list:
                    if j.get("status") == "done"}, reverse=True)
 
 
-def machine_table(jobs) -> tuple[str, str]:
+def machine_table(jobs) -> Table:
     """Per (k~, sigma~, preload, k~_m): seed means of F~_P, F~_A (the peak tension) and F~_jump
-    (the tension at the jump-off of the final separation) and the plate's jumps (README,
-    'Compliant loading')."""
+    (the tension at the jump-off of the final separation) and the plate's jumps."""
     by: dict = {}
     for j in jobs:
         if j.get("status") == "done":
-            key = (j["k_tilde"], j["sigma_tilde"], j["preload"], float(j.get("k_machine",
-                                                                               math.inf)))
+            key = (j["k_tilde"], j["sigma_tilde"], j["preload"],
+                   float(j.get("k_machine", math.inf)))
             by.setdefault(key, []).append(j)
-    head = ["k_tilde", "sigma_tilde", "preload", "k_machine", "n_seeds", "F_P", "F_A", "F_jump",
-            "jumps", "note"]
-    rows = [head]
-    md = ["| k̃ | σ̃ | preload | k̃_m | seeds | F̃_P | F̃_A (peak) | F̃_jump (final jump-off) "
-          "| jumps | note |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    t = Table("machine", "Loading machines")
+    t.csv_rows.append(["k_tilde", "sigma_tilde", "preload", "k_machine", "n_seeds", "F_P", "F_A",
+                       "F_jump", "jumps", "note"])
+    t.page_rows.append(["k̃", "σ̃", "preload", "k̃_m", "seeds", "F̃_P", "F̃_A (peak)",
+                        "F̃_jump (final jump-off)", "jumps", "note"])
 
     def mean(js, name):
         v = [float(j[name]) for j in js if j.get(name) is not None]
@@ -144,8 +238,9 @@ def machine_table(jobs) -> tuple[str, str]:
         rigid = math.isinf(km)
         note = "rigid machine: the plate does not jump" if rigid else ""
         fp, fa, fj, nj = (mean(js, n) for n in ("F_P", "F_A", "F_jump", "jumps"))
-        rows.append([repr(float(k)), repr(float(s)), repr(float(p)), repr(km), str(len(js)),
-                     _num(fp), _num(fa), _num(fj), "" if rigid else _num(nj), note])
-        md.append(f"| {k:g} | {s:g} | {p:g} | {km:g} | {len(js)} | {_md(fp)} | {_md(fa)} | "
-                  f"{_md(fj)} | {'—' if rigid else _md(nj, '.3g')} | {note} |")
-    return _csv(rows), "\n".join(md) + "\n"
+        t.csv_rows.append([repr(float(k)), repr(float(s)), repr(float(p)), repr(km),
+                           str(len(js)), num(fp), num(fa), num(fj), "" if rigid else num(nj),
+                           note])
+        t.page_rows.append([f"{k:g}", f"{s:g}", f"{p:g}", f"{km:g}", str(len(js)), fmt(fp),
+                            fmt(fa), fmt(fj), "—" if rigid else fmt(nj, ".3g"), note])
+    return t

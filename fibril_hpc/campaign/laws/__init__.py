@@ -1,8 +1,11 @@
 """The laws of a campaign's science, pure functions on numbers (no files, no MPI).
 
-Owns :mod:`.fit` (the "linear, then plateau" law of F~_A(F~_P) per (k~, sigma~), and
-c(sigma~) = alpha/sigma~ - beta). Used by the ``F_P: auto`` planner (where to place preloads)
-and by the report (what the campaign found).
+Owns :mod:`.fit` (the "linear, then plateau" laws of F~_A(F~_P), fitted in log F~_A; the
+``F_P: auto`` planner places preloads around their kink), :mod:`.reading` (one (k~, sigma~)
+read without a law: the plateau, the first-contact slope c0 and the adhesion coefficient c),
+:mod:`.alphabeta` (c(sigma~) = alpha/sigma~ - beta, cut at 0, and sigma~_c), :mod:`.intervals`
+(seed intervals by a bootstrap over seeds, the preset's discretisation bias) and :mod:`.study`
+(all of it per k~). Used by the ``F_P: auto`` planner and by the report.
 
 May import: nothing of the campaign wing (its lowest layer); the core's errors.
 """

@@ -18,7 +18,13 @@ plateau / c) and the next round's preloads are chosen:
 * both met but the kink's bracket (smallest above / largest below) wider than ``bracket``: bisect
   it in log F~_P.
 
-It stops when nothing is left to add or after ``rounds`` rounds. New preloads are rounded to three
+When nothing is left to add (or after ``rounds`` rounds) it checks the plateau: F~_A at the
+largest preload must be within 3 % (:data:`.laws.reading.PATH_RTOL`) of F~_A at the preload
+below it, or above it (the report's plateau is the preload-insensitive F~_A). If not, *plateau
+rounds* follow, one preload each: the largest x 4, capped at ``max``, until F~_A stops rising or
+``max`` is reached. Only the path's own records decide, so a resume replays them too, and a file
+finished before plateau rounds existed resumes by adding them (its records and job keys stay as
+they are; the settings and the campaign hash do not change). New preloads are rounded to three
 significant digits. Every chosen preload is an ordinary job with the ordinary key (the hash of its
 single-preload scene), so merge, status and export see normal records. The choice of round r is a
 function of the records of rounds 0 .. r-1 only, so a resumed campaign (after SIGKILL too)
@@ -34,6 +40,7 @@ from dataclasses import asdict, dataclass
 
 from ...errors import ConfigError
 from ..laws.fit import DEFAULT_LAW, fit_law
+from ..laws.reading import path_plateau_reached
 
 AUTO_WORD = "auto"
 #: the smallest preload's F~_A at least this fraction of the next one's: a floor, not linear
@@ -140,22 +147,66 @@ def next_preloads(a: AutoPreloads, tried, results) -> list:
     return out
 
 
-def path_todo(a: AutoPreloads, results, retry_failed=False, failed=()) -> tuple[list, int]:
-    """Replay the rounds of one path from its records: (preloads to run now, round number).
+def plateau_preloads(a: AutoPreloads, tried, results) -> list:
+    """The next plateau round of one path: ``[min(largest tried x 4, max)]`` while F~_A still
+    rises at the largest preload (:func:`.laws.reading.path_plateau_reached`), else ``[]`` (also
+    with fewer than two done preloads: nothing to judge)."""
+    pts = [(fp, fa) for p, (fp, fa) in results.items() if p in tried and math.isfinite(fa)]
+    if len(pts) < 2 or path_plateau_reached([fp for fp, _ in pts], [fa for _, fa in pts]):
+        return []
+    hi = max(tried)
+    nxt = _round3(min(hi * 4.0, a.max))
+    return [nxt] if nxt > hi and nxt not in {_round3(p) for p in tried} else []
+
+
+@dataclass
+class Replay:
+    """One path replayed from its records (:func:`replay`)."""
+
+    todo: list                      # preloads to run now (empty: the path is finished)
+    rounds: int                     # index of the last kink round run (``rounds`` if limited)
+    kink_tried: list                # preloads of the kink rounds (start included)
+    plateau_tried: list             # preloads of the plateau rounds
+
+
+def replay(a: AutoPreloads, results, retry_failed=False, failed=()) -> Replay:
+    """Replay the rounds of one path from its records: the kink rounds (at most ``rounds``,
+    :func:`next_preloads`), then the plateau rounds (:func:`plateau_preloads`).
 
     ``results``: {preload: (F_P, F_A)} of the done jobs of the path; ``failed``: preloads recorded
-    as failed (rerun only with ``retry_failed``). An empty list: the path is finished."""
-    tried: list = []
+    as failed (rerun only with ``retry_failed``)."""
+    kink: list = []
+    plateau: list = []
     cur = list(a.start)
-    for r in range(a.rounds):
-        tried += cur
+    r = 0                           # kink rounds completed
+    in_kink, limit_hit = True, False
+    while True:
+        (kink if in_kink else plateau).extend(cur)
         missing = [p for p in cur if p not in results and (retry_failed or p not in failed)]
         if missing:
-            return missing, r
-        cur = next_preloads(a, tried, results)
-        if not cur:
-            return [], r
-    return [], a.rounds
+            return Replay(missing, r if in_kink else max(r - 1, 0), kink, plateau)
+        tried = kink + plateau
+        if in_kink:
+            r += 1
+            cur = next_preloads(a, tried, results)
+            if cur and r >= a.rounds:   # the round limit: the kink rounds stop here
+                cur, limit_hit = [], True
+            if not cur:
+                in_kink = False
+        else:
+            cur = []
+        if not in_kink:
+            cur = plateau_preloads(a, tried, results)
+            if not cur:
+                return Replay([], a.rounds if limit_hit else r - 1, kink, plateau)
+
+
+def path_todo(a: AutoPreloads, results, retry_failed=False, failed=()) -> tuple[list, int]:
+    """(preloads to run now, round number) of one path, replayed from its records
+    (:func:`replay`). An empty list: the path is finished; its round number is then its last
+    kink round's index, or ``rounds`` when the kink rounds hit their limit."""
+    rp = replay(a, results, retry_failed, failed)
+    return rp.todo, rp.rounds
 
 
 def results_by_path(records, paths) -> tuple[dict, dict]:

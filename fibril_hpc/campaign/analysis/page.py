@@ -1,0 +1,117 @@
+"""The report's two pages: ``README.md`` (figures beside it as PNG files) and ``report.html``
+(one self-contained file: the same text and tables, every figure embedded as a data URI).
+
+The first lines say what the campaign gives and, where alpha and beta are empty, why and which
+grid would give them (:func:`.report_data.headline`). The definitions are those of
+``docs/report.md`` in short.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import os
+import re
+
+DEFINITIONS = """\
+* **Plateau**: the preload-insensitive F̃_A. From the largest preload down, a preload joins the
+  plateau set while its seed-mean F̃_A is not below the set's mean by more than 2 standard errors
+  of the difference of the seed means (at least 1 % of the plateau; 3 % with one seed). The
+  plateau is the set's mean; with fewer than two preloads in the set it is *not reached* (F̃_A
+  still rises at the largest preload: a lower bound). When every preload is in the set, F̃_A
+  does not rise (*no rise*): c = c₀ = 0, a measured loss of adhesion.
+* **c** (the adhesion coefficient of He, Li & Popov, on the plateau's scale): the chord slope over
+  the first half of the rise, (F̃_A,½ − F̃_A,0)/(F̃_P,½ − F̃_P,0), from the smallest preload
+  (F̃_P,0, F̃_A,0) to where the seed-mean curve first reaches F̃_A,½ = F̃_A,0 + (plateau − F̃_A,0)/2
+  (interpolated in log F̃_P). It is the slope seen on the paper's linear axes.
+* **c₀** (the first-contact slope): the geometric mean of F̃_A/F̃_P over the preloads in the first
+  quarter of the rise, where a few pillars carry the pull-off. It depends on the smallest preload
+  (given beside it).
+* **α, β, σ̃_c**: c = max(α/σ̃ − β, 0) fitted per k̃ (scipy.optimize.least_squares, weights 1/sd of
+  c from the seeds); groups with c = 0 enter the fit; groups whose plateau was not reached and
+  σ̃ = 0 do not. σ̃_c = α/β where β > 0. *Poor fit*: χ² above its 99 % point (residuals beyond
+  the seed scatter).
+* **Errors**: [seed CI] is the 2.5–97.5 % range of a bootstrap over seeds (seed labels resampled
+  jointly for a k̃, every reading redone; with three seeds, read it as the seed range). **bias** is
+  the preset's discretisation error of F̃_A measured against the converged reference of the
+  default scene (benchmarks/NOTES.md §27b), carried to every force-like number as a relative
+  error (σ̃_c, a ratio, is unaffected). **larger error** names the one that dominates.
+"""
+
+
+def _summary(d) -> str:
+    seeds = sorted({g.n_seeds for st in d.studies.values() for g in st.groups})
+    s = (f"{d.n_jobs} job records: {d.n_done} done, {d.n_failed} failed"
+         + (f", {d.n_nonfinite} done with non-finite forces (left out)" if d.n_nonfinite else "")
+         + f"; campaign `{d.meta.get('campaign_hash', '?')}`; preset `{d.preset or '?'}`; "
+         + f"seeds per (k̃, σ̃): {', '.join(map(str, seeds)) or '—'}; "
+         + f"{d.n_boot} bootstrap resamples over seeds.")
+    if len(d.machines) > 1:
+        s += (f" The grid sweeps the machine stiffness k̃_m ({', '.join(f'{k:g}' for k in d.machines)}); "
+              f"the readings use k̃_m = {d.machines[0]:g}.")
+    return s
+
+
+def markdown(d, tables, figures, seconds=None) -> str:
+    """The Markdown page: headline, summary, tables, definitions, figures (relative links)."""
+    out = [f"# Report of `{os.path.abspath(d.path)}`", ""]
+    out += [f"**{line}**" if i == 0 else line for i, line in enumerate(d.headline)]
+    out += ["", _summary(d) + (f" Report written in {seconds:.1f} s." if seconds else ""), ""]
+    out += ["Every table is also a CSV file beside this page (full precision, one column per "
+            "number); `report.html` is this page with the figures embedded.", ""]
+    for t in tables:
+        out += [f"## {t.title} (`{t.name}.csv`)", "", t.markdown()]
+    out += ["## Definitions", "", DEFINITIONS, "## Figures", ""]
+    for title, p in figures:
+        out += [f"### {title}", "", f"![{title}]({os.path.basename(p)})", ""]
+    return "\n".join(out)
+
+
+_CSS = """body{font-family:sans-serif;max-width:1300px;margin:1em auto;padding:0 1em;color:#222}
+table{border-collapse:collapse;margin:.5em 0 1.5em;font-size:13px}
+td,th{border:1px solid #bbb;padding:3px 6px;vertical-align:top;text-align:left}
+th{background:#eee}img{max-width:100%;border:1px solid #ddd}.head{background:#fff6d6;
+padding:.6em 1em;border-left:4px solid #d8a300}code{background:#f2f2f2}"""
+
+
+def _inline(text: str) -> str:
+    """Markdown emphasis and code of one line -> HTML (after escaping)."""
+    t = html.escape(text)
+    t = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", t)
+    t = re.sub(r"(?<![\w*])\*(?!\s)(.+?)(?<!\s)\*(?![\w*])", r"<em>\1</em>", t)
+    return re.sub(r"`(.+?)`", r"<code>\1</code>", t)
+
+
+def _definitions_html() -> str:
+    items, cur = [], []
+    for line in DEFINITIONS.splitlines():
+        if line.startswith("* ") and cur:
+            items.append(" ".join(cur))
+            cur = []
+        cur.append(line[2:].strip())
+    if cur:
+        items.append(" ".join(cur))
+    return "<ul>" + "".join(f"<li>{_inline(i)}</li>" for i in items) + "</ul>"
+
+
+def html_page(d, tables, figures, seconds=None) -> str:
+    """The self-contained HTML page: every figure embedded as a base64 PNG data URI."""
+    title = html.escape(os.path.abspath(d.path))
+    parts = ["<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
+             f"<title>Report of {title}</title><style>{_CSS}</style></head><body>",
+             f"<h1>Report of <code>{title}</code></h1><div class='head'>"]
+    parts += [f"<p>{_inline(line)}</p>" for line in d.headline]
+    summ = _summary(d) + (f" Report written in {seconds:.1f} s." if seconds else "")
+    parts += [f"</div><p>{_inline(summ)}</p>"]
+    for t in tables:
+        parts += [f"<h2>{html.escape(t.title)}</h2>", t.html()]
+    parts += ["<h2>Definitions</h2>", _definitions_html(), "<h2>Figures</h2>"]
+    for ftitle, p in figures:
+        with open(p, "rb") as fh:
+            b64 = base64.b64encode(fh.read()).decode("ascii")
+        alt = html.escape(ftitle, quote=True)
+        parts += [f"<h3>{html.escape(ftitle)}</h3>",
+                  f"<figure><img class='figure' alt='{alt}' src='data:image/png;base64,{b64}'>"
+                  "</figure>"]
+    parts.append("</body></html>")
+    return "\n".join(parts)

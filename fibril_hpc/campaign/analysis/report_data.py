@@ -1,0 +1,192 @@
+"""The report's numbers: a campaign's done jobs turned into the per-k~ studies of
+:mod:`.laws.study`, the law comparison of :mod:`.fit`, the preset's bias and the page's
+headline (what the campaign gives, and why not where it gives nothing).
+
+Reads any campaign :func:`.data.load_campaign` reads: failed and non-finite jobs are counted
+and left out, a machine sweep is reported at its stiffest machine, a campaign still being
+written is read as far as it got.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..laws import fit as _fit
+from ..laws.intervals import dominant, preset_bias
+from ..laws.reading import levels
+from ..laws.study import N_BOOT, study
+
+#: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
+POOR_FACTOR = 2.0
+#: what a grid needs for alpha and beta (said on the page when a campaign cannot give them)
+GRID_ADVICE = ("alpha and beta need, per k~, at least two sigma~ > 0 whose F~_A rises with "
+               "preload to a plateau the campaign reaches: sigma~ between about 0.07 and 0.9 "
+               "(on 18 x 18 pillars F~_A rises there for k~ from 1 to 0.001, and stays flat at "
+               "the last pillar's pull-off at sigma~ = 2.1 for k~ = 1) and preloads from the "
+               "first contacts to the plateau - `F_P: auto` places them (campaigns/demo.yaml "
+               "is such a grid)")
+
+
+@dataclass
+class LawRow:
+    """One law fitted to one (k~, sigma~): its fit, residual against the seed scatter."""
+
+    fit: _fit.LawFit
+    seed_log_sd: float              # pooled seed sd of log F~_A over the levels
+    poor: bool
+    plateau_vs_read: float          # law plateau / read plateau - 1
+
+
+@dataclass
+class ReportData:
+    """Everything the tables, figures and page show."""
+
+    path: str
+    meta: dict
+    n_jobs: int
+    n_done: int
+    n_failed: int
+    n_nonfinite: int
+    machines: list
+    preset: str
+    bias: float
+    bias_note: str
+    studies: dict                   # {k~: KStudy}
+    laws: dict                      # {(k~, sigma~): {law: LawRow}}
+    means: dict                     # {(k~, sigma~): Levels}
+    headline: list = field(default_factory=list)
+    n_boot: int = N_BOOT
+
+
+def _finite(j) -> bool:
+    return all(isinstance(j.get(n), (int, float)) and math.isfinite(j[n])
+               for n in ("F_P", "F_A", "preload", "k_tilde", "sigma_tilde"))
+
+
+def points_by_group(jobs) -> dict:
+    """{(k~, sigma~): (seed, preload, F_P, F_A) arrays} of the done jobs with finite numbers."""
+    rows: dict = {}
+    for j in jobs:
+        if j.get("status") == "done" and _finite(j):
+            rows.setdefault((float(j["k_tilde"]), float(j["sigma_tilde"])), []).append(
+                (int(j.get("seed", 0)), float(j["preload"]), float(j["F_P"]), float(j["F_A"])))
+    return {k: tuple(np.asarray(c) for c in zip(*v)) for k, v in sorted(rows.items())}
+
+
+def campaign_preset(meta, jobs) -> tuple[str, float | None]:
+    """(preset name, elements per diameter) of the campaign's scene: the resolved grid in the
+    file's ``campaign_yaml``, else the scene of its first done job; ("", None) if neither."""
+    import yaml
+
+    texts = [meta.get("campaign_yaml")] + [j.get("scene_yaml") for j in jobs
+                                            if j.get("status") == "done"][:1]
+    for text in texts:
+        if not text:
+            continue
+        try:
+            d = yaml.safe_load(text) or {}
+        except yaml.YAMLError:
+            continue
+        d = d.get("scene", d) if isinstance(d, dict) else {}
+        if isinstance(d, dict) and ("preset" in d or "elements_per_diameter" in d):
+            epd = d.get("elements_per_diameter")
+            try:
+                epd = float(epd) if epd is not None else None
+            except (TypeError, ValueError):
+                epd = None
+            return str(d.get("preset", "default")), epd
+    return "", None
+
+
+def _seed_log_sd(pts) -> float:
+    seed, pre, x, y = pts
+    sds = []
+    for p in np.unique(pre):
+        v = y[(pre == p) & (y > 0)]
+        if v.size > 1:
+            sds.append(np.var(np.log(v), ddof=1))
+    return math.sqrt(float(np.mean(sds))) if sds else math.nan
+
+
+def law_rows(points: dict, studies: dict) -> dict:
+    """Every law of :data:`.fit.LAWS` fitted to every (k~, sigma~), against the reading."""
+    out = {}
+    for (k, s), pts in points.items():
+        sd = _seed_log_sd(pts)
+        read = next((g.reading.plateau for g in studies[k].groups if g.sigma_tilde == s),
+                    math.nan)
+        row = {}
+        for law in _fit.LAWS:
+            f = _fit.fit_law(pts[2], pts[3], law)
+            poor = bool(math.isfinite(sd) and math.isfinite(f.rms_log)
+                        and f.rms_log > POOR_FACTOR * max(sd, 1e-3))
+            rel = f.plateau / read - 1 if read and math.isfinite(read) else math.nan
+            row[law] = LawRow(f, sd, poor, rel)
+        out[(k, s)] = row
+    return out
+
+
+def headline(d: ReportData) -> list:
+    """The page's first lines: what the campaign gives; where alpha/beta are empty, why."""
+    lines = []
+    fitted = [k for k, st in d.studies.items() if st.ab.ok]
+    if not d.studies:
+        lines.append(f"No done job with finite forces ({d.n_jobs} job records, {d.n_failed} "
+                     "failed): nothing to read. " + GRID_ADVICE + ".")
+        return lines
+    if fitted:
+        lines.append("alpha and beta fitted for k~ = " + ", ".join(f"{k:g}" for k in fitted)
+                     + f" (of {len(d.studies)} k~).")
+    missing = [k for k in d.studies if k not in fitted]
+    if missing:
+        out: dict = {}
+        for k in missing:
+            for g in d.studies[k].groups:
+                if g.why_out:
+                    out.setdefault(g.why_out, []).append(f"({k:g}, {g.sigma_tilde:g})")
+        why = "; ".join(f"{w}: {', '.join(v)}" for w, v in out.items())
+        lines.append("No alpha and beta for k~ = " + ", ".join(f"{k:g}" for k in missing)
+                     + ": " + "; ".join(f"k~ = {k:g}: {d.studies[k].ab.notes[0]}"
+                                        for k in missing if d.studies[k].ab.notes)
+                     + (f". Left out of the fit: {why}" if why else "") + ". " + GRID_ADVICE
+                     + ".")
+    dom: dict = {}
+    for st in d.studies.values():
+        for g in st.groups:
+            for name, v, ci in (("plateau", g.reading.plateau, g.plateau_ci),
+                                ("c", g.reading.c, g.c_ci)):
+                dom.setdefault(name, []).append(dominant(v, ci, d.bias))
+    if any(x != "unknown" for v in dom.values() for x in v):
+        lines.append("Larger error: " + "; ".join(
+            f"{name}: the seeds in {v.count('seeds')}, the discretisation in "
+            f"{v.count('discretisation')} of {len(v)} (k~, sigma~)" for name, v in dom.items())
+            + ".")
+    if math.isfinite(d.bias):
+        lines.append(f"Discretisation bias: {d.bias_note} ({100 * d.bias:+.1f} % on every "
+                     "force-like number; measured on one scene, carried over as an assumption).")
+    else:
+        lines.append(f"Discretisation bias: {d.bias_note}.")
+    return lines
+
+
+def build(c, path: str, n_boot: int = N_BOOT) -> ReportData:
+    """The report's numbers from a loaded campaign (:class:`.data.CampaignData`)."""
+    done = [j for j in c.jobs if j.get("status") == "done"]
+    kms = sorted({float(j.get("k_machine", math.inf)) for j in done}, reverse=True)
+    # a grid sweeping the machine repeats every (k~, sigma~, preload, seed): the readings take
+    # the stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
+    jobs = [j for j in done if not kms or float(j.get("k_machine", math.inf)) == kms[0]]
+    points = points_by_group(jobs)
+    studies = study(points, n_boot=n_boot)
+    preset, epd = campaign_preset(c.meta, done)
+    bias, note = preset_bias(preset, epd) if preset else (math.nan, "no scene to tell the preset")
+    d = ReportData(path, dict(c.meta), len(c.jobs), len(done),
+                   sum(1 for j in c.jobs if j.get("status") != "done"),
+                   sum(1 for j in done if not _finite(j)), kms, preset, bias, note, studies,
+                   law_rows(points, studies), {k: levels(*p) for k, p in points.items()},
+                   n_boot=n_boot)
+    d.headline = headline(d)
+    return d

@@ -1,0 +1,100 @@
+"""The whole error of a number: its seed interval and the preset's discretisation bias.
+
+**Seed interval.** Seeds are the independent realisations of a (k~, sigma~), so the interval
+comes from resampling seeds with replacement (``scipy.stats.bootstrap``, one resample = one
+multiset of seed labels, the whole reading redone on it) and taking the 2.5 and 97.5 %
+percentiles of the replicates. With n seeds there are only C(2n-1, n) distinct resamples (10 for
+three seeds), so the interval is close to the range of what the seeds allow, not a calibrated
+95 % interval: read it as the seed scatter. A replicate that cannot be formed (a sigma~_c whose
+beta <= 0) counts as +inf: the upper end of the interval is then unbounded.
+
+**Discretisation bias.** The converged-reference study (``benchmarks/accuracy/``,
+``benchmarks/NOTES.md`` §27b) measured F~_A of the default scene (18 x 18 pillars, F~_P = 4)
+against its converged value 0.9759 +- 0.16 %: ``fast`` -3.6 %, ``default`` +0.9 %,
+``accurate`` +1.3 %. A preset's bias is taken as a relative error of every force-like number of
+the campaign (F~_A, the plateau, c, c0, alpha, beta); a ratio such as sigma~_c = alpha/beta
+does not change when every c is off by the same factor, so its bias is 0 to first order. The
+study measured one scene: carrying the figure to other (k~, sigma~) is an assumption, stated in
+the report. A scene whose resolution is not its preset's has no measured bias.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+#: relative error of F~_A per preset against the converged reference (benchmarks/NOTES.md §27b)
+PRESET_BIAS = {"fast": -0.036, "default": 0.009, "accurate": 0.013}
+#: elements per diameter of each preset (fibril_hpc/presets.py), to tell a preset from an override
+PRESET_EPD = {"fast": 6.0, "default": 8.0, "accurate": 16.0}
+LEVEL = 0.95
+_BIG = 1e300
+
+
+def preset_bias(preset, elements_per_diameter) -> tuple[float, str]:
+    """(relative bias of F~_A, why) for a campaign's preset and resolution; NaN if unmeasured."""
+    if preset not in PRESET_BIAS:
+        return math.nan, f"preset {preset!r}: no measured discretisation bias"
+    epd = PRESET_EPD[preset]
+    if elements_per_diameter is not None and not math.isclose(float(elements_per_diameter), epd):
+        return math.nan, (f"elements_per_diameter {float(elements_per_diameter):g} is not the "
+                          f"{preset} preset's {epd:g}: no measured discretisation bias")
+    return PRESET_BIAS[preset], (f"preset {preset}: F~_A {100 * PRESET_BIAS[preset]:+.1f} % "
+                                 "against the converged reference of the default scene")
+
+
+def seed_replicates(labels, statistic, n_boot: int, rng_seed: int = 0):
+    """Bootstrap replicates of ``statistic(labels_resampled) -> 1-d array`` over seed labels.
+
+    Returns an array (n_values, n_boot), or None with fewer than two seeds or ``n_boot < 1``.
+    Non-finite replicate values are kept (NaN: not formed; inf: unbounded).
+    """
+    from scipy import stats
+
+    labels = np.asarray(sorted(set(labels)))
+    if labels.size < 2 or n_boot < 1:
+        return None
+
+    def stat(i):
+        return np.atleast_1d(np.asarray(statistic(labels[np.asarray(i, dtype=int)]), dtype=float))
+
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        # the interval is taken below from the replicates; scipy's own warns on NaN/inf ones
+        warnings.simplefilter("ignore")
+        res = stats.bootstrap((np.arange(labels.size),), stat, vectorized=False,
+                              n_resamples=int(n_boot), method="percentile",
+                              rng=np.random.default_rng(rng_seed))
+    d = np.asarray(res.bootstrap_distribution, dtype=float)
+    return d.reshape(-1, d.shape[-1])
+
+
+def percentile_interval(replicates, level: float = LEVEL) -> tuple[float, float]:
+    """(lo, hi) percentiles of the replicates; +inf ones make hi unbounded (inf); NaN ones are
+    left out; fewer than two usable replicates: (NaN, NaN)."""
+    r = np.asarray(replicates, dtype=float)
+    r = r[~np.isnan(r)]
+    if r.size < 2:
+        return math.nan, math.nan
+    r = np.clip(r, -_BIG, _BIG)
+    q = (1 - level) / 2
+    lo, hi = np.percentile(r, [100 * q, 100 * (1 - q)])
+    return (-math.inf if lo <= -_BIG else float(lo)), (math.inf if hi >= _BIG else float(hi))
+
+
+def replicate_sd(replicates) -> float:
+    """Standard deviation of the finite replicates (NaN with fewer than two)."""
+    r = np.asarray(replicates, dtype=float)
+    r = r[np.isfinite(r)]
+    return float(np.std(r, ddof=1)) if r.size > 1 else math.nan
+
+
+def dominant(value, ci, bias_rel) -> str:
+    """Which error is larger, the seed interval's half-width or the bias: ``"seeds"``,
+    ``"discretisation"``, or ``"unknown"`` when either is not known."""
+    if not (math.isfinite(value) and math.isfinite(bias_rel)
+            and all(math.isfinite(v) for v in ci)):
+        return "unknown"
+    half = max(value - ci[0], ci[1] - value)
+    return "seeds" if half >= abs(bias_rel * value) else "discretisation"

@@ -1,0 +1,159 @@
+"""A campaign's science per k~: every (k~, sigma~) read (:mod:`.reading`), c(sigma~) fitted
+(:mod:`.alphabeta`), and every number's seed interval from one bootstrap over seeds
+(:mod:`.intervals`).
+
+The bootstrap resamples seed labels *jointly* over the sigma~ of a k~ (a label picked twice
+counts as two seeds), redoes every reading on the resample, then fits alpha and beta to the
+resampled c with the weights of the full data: the intervals of the plateau, c, c0, alpha,
+beta and sigma~_c come from the same replicates. Where the alpha/beta fit is poor (its residuals
+exceed the seed scatter) the interval of alpha and beta is widened to hold the fit's own
+Student-t interval (covariance scaled by chi^2/dof) as well.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .alphabeta import ABFit, fit_alpha_beta, t_interval
+from .intervals import percentile_interval, replicate_sd, seed_replicates
+from .reading import HALF, Reading, read_group
+
+N_BOOT = 400
+NAN2 = (math.nan, math.nan)
+
+
+@dataclass
+class GroupResult:
+    """One (k~, sigma~): its reading, seed intervals and whether c entered alpha and beta."""
+
+    k_tilde: float
+    sigma_tilde: float
+    reading: Reading
+    n_seeds: int
+    plateau_ci: tuple = NAN2
+    c_ci: tuple = NAN2
+    c0_ci: tuple = NAN2
+    c_sd: float = math.nan
+    in_fit: bool = False
+    why_out: str = ""
+
+
+@dataclass
+class KStudy:
+    """One k~: its groups (ascending sigma~), the alpha/beta fit and its intervals."""
+
+    k_tilde: float
+    groups: list
+    ab: ABFit
+    alpha_ci: tuple = NAN2
+    beta_ci: tuple = NAN2
+    sigma_c_ci: tuple = NAN2
+    ci_method: str = ""
+    notes: list = field(default_factory=list)
+
+
+def _resample(pts, labels):
+    """The points of the picked seed labels, each pick relabelled as its own seed."""
+    seed, pre, x, y = pts
+    idx = [np.flatnonzero(seed == lab) for lab in labels]
+    new_seed = np.concatenate([np.full(i.size, j) for j, i in enumerate(idx)]) if idx else []
+    sel = np.concatenate(idx) if idx else np.array([], dtype=int)
+    return np.asarray(new_seed), pre[sel], x[sel], y[sel]
+
+
+def _why_out(sigma: float, r: Reading) -> str:
+    if sigma <= 0:
+        return "sigma~ = 0 (the smooth limit) has no place in a law in 1/sigma~"
+    if r.plateau_state == "not reached":
+        return "plateau not reached: c is provisional"
+    if r.plateau_state == "no data":
+        return "no finite points"
+    if not math.isfinite(r.c):
+        return "c could not be read (the rise never reaches its half)"
+    return ""
+
+
+def _ab_points(groups, cs=None):
+    use = [g for g in groups if g.in_fit]
+    s = [g.sigma_tilde for g in use]
+    c = [g.reading.c for g in use] if cs is None else cs
+    sd = [max(g.c_sd, g.reading.c_detect) if math.isfinite(g.c_sd) else math.nan for g in use]
+    return s, c, sd
+
+
+def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 0,
+            half: float = HALF) -> KStudy:
+    """``points``: {sigma~: (seed, preload, F_P, F_A) arrays of done jobs} of one k~; ``half``:
+    the fraction of the rise that defines c (:func:`.reading.read_group`)."""
+    pts = {float(s): tuple(np.asarray(a) for a in p) for s, p in sorted(points.items())}
+    sigmas = list(pts)
+    groups = []
+    for s in sigmas:
+        r = read_group(*pts[s], half=half)
+        why = _why_out(s, r)
+        groups.append(GroupResult(float(k_tilde), s, r, int(np.unique(pts[s][0]).size),
+                                  in_fit=not why, why_out=why))
+    labels = sorted(set().union(*(set(p[0].tolist()) for p in pts.values()))) if pts else []
+    n = len(sigmas)
+
+    def stat(picked):
+        out = []
+        for s in sigmas:
+            r = read_group(*_resample(pts[s], picked), half=half)
+            out += [r.plateau, r.c, r.c0]
+        return np.array(out)
+
+    reps = seed_replicates(labels, stat, n_boot, rng_seed) if n else None
+    notes = []
+    if reps is not None:
+        for i, g in enumerate(groups):
+            g.plateau_ci = percentile_interval(reps[3 * i])
+            g.c_ci = percentile_interval(reps[3 * i + 1])
+            g.c0_ci = percentile_interval(reps[3 * i + 2])
+            g.c_sd = replicate_sd(reps[3 * i + 1])
+        method = f"bootstrap over {len(labels)} seeds ({reps.shape[1]} resamples)"
+    else:
+        method = ("one seed: no seed interval" if len(labels) < 2
+                  else "bootstrap off: no seed interval")
+    ab = fit_alpha_beta(*_ab_points(groups))
+    st = KStudy(float(k_tilde), groups, ab, ci_method=method, notes=notes)
+    if not ab.ok:
+        return st
+    dof = ab.n_points - 2
+    cov_a, cov_b = t_interval(ab.alpha, ab.alpha_se, dof), t_interval(ab.beta, ab.beta_se, dof)
+    if reps is None:
+        st.alpha_ci, st.beta_ci = cov_a, cov_b
+        st.ci_method += "; alpha, beta: the fit's covariance (Student t)"
+        return st
+    fit_idx = [i for i, g in enumerate(groups) if g.in_fit]
+    s, _, sd = _ab_points(groups)
+    ab_reps = []
+    for b in range(reps.shape[1]):
+        cb = [reps[3 * i + 1, b] for i in fit_idx]
+        f = fit_alpha_beta(s, cb, sd)
+        sc = (f.alpha / f.beta if f.beta > 0 and f.alpha > 0
+              else (math.inf if f.ok and f.beta <= 0 else math.nan))
+        ab_reps.append((f.alpha, f.beta, sc))
+    ab_reps = np.array(ab_reps).T
+    st.alpha_ci, st.beta_ci = percentile_interval(ab_reps[0]), percentile_interval(ab_reps[1])
+    st.sigma_c_ci = percentile_interval(ab_reps[2])
+    if ab.poor:
+        st.alpha_ci = (min(st.alpha_ci[0], cov_a[0]), max(st.alpha_ci[1], cov_a[1]))
+        st.beta_ci = (min(st.beta_ci[0], cov_b[0]), max(st.beta_ci[1], cov_b[1]))
+        notes.append("alpha, beta intervals widened to the fit's Student-t interval (poor fit)")
+    unb = float(np.mean(np.isinf(ab_reps[2])))
+    if unb > 0:
+        notes.append(f"beta <= 0 in {100 * unb:.0f} % of the resamples: sigma~_c unbounded above")
+    return st
+
+
+def study(points: dict, n_boot: int = N_BOOT, rng_seed: int = 0, half: float = HALF) -> dict:
+    """``points``: {(k~, sigma~): (seed, preload, F_P, F_A)} -> {k~: :class:`KStudy`}, k~
+    descending (stiff first, as the paper's figures)."""
+    by_k: dict = {}
+    for (k, s), p in points.items():
+        by_k.setdefault(float(k), {})[float(s)] = p
+    return {k: study_k(k, by_k[k], n_boot, rng_seed, half) for k in sorted(by_k, reverse=True)}
