@@ -58,10 +58,11 @@ def chosen_curve_jobs(jobs, fits, per_k: int = 1) -> list:
 
 
 def write_report(path: str, out_dir: str, law: str = _fit.DEFAULT_LAW,
-                 n_boot: int = _fit.N_BOOT) -> list:
-    """Write every figure, table and ``README.md`` of the campaign ``path`` into ``out_dir``;
-    returns the paths written."""
-    c = load_campaign(path, curves=True)
+                 n_boot: int = _fit.N_BOOT, include_unchecked: bool = False) -> list:
+    """Write every figure, table and ``README.md`` of the campaign ``path`` into ``out_dir``
+    (from the verified records; unchecked ones too with ``include_unchecked``); returns the
+    paths written."""
+    c = load_campaign(path, curves=True, include_unchecked=include_unchecked)
     kms = tables.machines(c.jobs)
     # a grid sweeping the machine repeats every (k~, sigma~, preload, seed): the fits take the
     # stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
