@@ -27,7 +27,18 @@ class ConfigError(FibrilError, ValueError):
         self.field = field
         self.value = value
         self.allowed = allowed
-        super().__init__(f"{field}: got {value!r}; allowed: {allowed}")
+        super().__init__(f"{field}: got {_short_repr(value)}; allowed: {allowed}")
+
+
+def _short_repr(value) -> str:
+    """``repr`` of a value, bounded in size and depth (a YAML alias bomb must not become a
+    message of hundreds of megabytes)."""
+    import reprlib
+
+    r = reprlib.Repr()
+    r.maxlevel, r.maxstring, r.maxother, r.maxlong = 3, 200, 200, 60
+    r.maxdict = r.maxlist = r.maxtuple = r.maxset = 8
+    return r.repr(value)
 
 
 class NoConvergenceError(FibrilError, RuntimeError):

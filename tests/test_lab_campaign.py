@@ -70,7 +70,7 @@ def test_machine_results_are_recorded_only_for_a_compliant_machine(tmp_path):
 
 
 def test_old_files_open_with_the_machine_fields_missing(tmp_path):
-    c = load_campaign(os.path.join(DATA, "campaign_v1.h5"))
+    c = load_campaign(os.path.join(DATA, "campaign_v1.h5"), include_unchecked=True)
     for j in c.jobs:
         assert j["k_machine"] == math.inf and j.get("jumps") is None
     df = c.frame()

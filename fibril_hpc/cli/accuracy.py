@@ -11,11 +11,12 @@ from ..accuracy.study import run_one
 from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError
 from ..io.files import check_output_folder
 from ..io.results import software_versions
-from .common import Parser, error
+from .common import Parser, error, memory_guard
 
 PROG = "fibril-accuracy"
 
 
+@memory_guard(PROG)
 def main(argv=None) -> int:
     """``fibril-accuracy``; returns the exit status."""
     p = Parser(prog=PROG, description="What accuracy costs in time: errors of F~_A and F~_P "

@@ -23,8 +23,11 @@ from ..errors import (
     StoreError,
 )
 from ..io.files import check_output_folder, check_writable
-from .common import Parser, error, setup_logging
+from .common import OUT_OF_MEMORY, Parser, error, setup_logging
 
+ON_CONFLICT = ("refuse", "first", "last")
+UNCHECKED_HELP = ("also take records without a checksum (nothing vouches for them: written "
+                  "before checksums existed, or stripped of theirs)")
 SUBCOMMANDS = ("run", "status", "report", "export", "merge", "verify", "salvage")
 PROG = "fibril-campaign"
 
@@ -64,14 +67,23 @@ def _parser() -> Parser:
     rp.add_argument("--out", required=True, metavar="DIR")
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
                     help="bootstrap resamples over seeds for the seed intervals (default 400)")
+    rp.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
     e = sub.add_parser("export", help="one row per job: CSV and/or Parquet")
     e.add_argument("file")
     e.add_argument("--csv", metavar="OUT.csv", help="write a CSV file")
     e.add_argument("--parquet", metavar="OUT.parquet",
                    help="write a Parquet file (needs pandas and pyarrow: the 'report' extra)")
+    e.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
     m = sub.add_parser("merge", help="merge campaign files into a new one")
     m.add_argument("files", nargs="+")
     m.add_argument("-o", "--output", required=True, metavar="ALL.h5")
+    m.add_argument("--on-conflict", choices=ON_CONFLICT, default="refuse",
+                   help="a key done in two files with different numbers: refuse (default), or "
+                        "keep the first or the last file's record")
+    m.add_argument("--prefer", metavar="FILE",
+                   help="on such a conflict, the record of FILE (one of the files) wins")
+    m.add_argument("--include-unchecked", action="store_true",
+                   help=UNCHECKED_HELP + " (copied without a checksum)")
     v = sub.add_parser("verify", help="check every record of a file against its checksum")
     v.add_argument("file")
     sv = sub.add_parser("salvage", help="copy every readable, verified record into a new file")
@@ -108,6 +120,8 @@ def main(argv=None) -> int:
         return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
     except StoreError as exc:
         return error(PROG, exc, EXIT_FAILED) if launcher_rank() == 0 else EXIT_FAILED
+    except MemoryError:
+        return error(PROG, OUT_OF_MEMORY) if launcher_rank() == 0 else EXIT_USAGE
 
 
 def _existing(path, field):
@@ -199,6 +213,7 @@ def cmd_status(args) -> int:
         print(json.dumps({"file": args.file, "campaign_hash": meta.get("campaign_hash"),
                           "updated": meta.get("updated"), **tot,
                           "in_journal": st.in_journal, "corrupt": st.corrupt,
+                          "unchecked_keys": st.unchecked, "foreign": sorted(st.foreign),
                           "by_k_tilde": {repr(k): v for k, v in st.by_k_tilde.items()}}))
         return EXIT_OK
     print(f"{args.file}: campaign {str(meta.get('campaign_hash'))[:12]}, "
@@ -209,6 +224,12 @@ def cmd_status(args) -> int:
           + (f" ({len(st.corrupt)} of them corrupt in the file: `verify` lists them, resume "
              "recomputes them)" if st.corrupt else "")
           + (f"; {sum(walls):.1f} s of compute in done jobs" if walls else ""))
+    if tot["unchecked"]:
+        print(f"  {tot['unchecked']} unchecked (no checksum: nothing vouches for them; left out "
+              "of reports and exports unless --include-unchecked)")
+    if st.foreign:
+        print(f"  {len(st.foreign)} foreign member(s) of /jobs (links or data from elsewhere, "
+              "or keys of no job of this grid): never counted; `verify` lists them")
     print(f"  {'k_tilde':>10} {'done':>6} {'failed':>6} {'pending':>7}")
     for k, d in st.by_k_tilde.items():
         print(f"  {k:>10g} {d['done']:>6} {d['failed']:>6} {d['pending']:>7}")
@@ -234,10 +255,10 @@ def cmd_export(args) -> int:
                           "a Parquet output with pandas and pyarrow installed "
                           "(pip install 'fibril-hpc[report]'), or --csv")
     if args.csv:
-        n = export_csv(args.file, args.csv)
+        n = export_csv(args.file, args.csv, include_unchecked=args.include_unchecked)
         print(f"{args.csv}: {n} jobs")
     if args.parquet:
-        n = export_parquet(args.file, args.parquet)
+        n = export_parquet(args.file, args.parquet, include_unchecked=args.include_unchecked)
         print(f"{args.parquet}: {n} jobs")
     return EXIT_OK
 
@@ -254,15 +275,23 @@ def cmd_merge(args) -> int:
         raise ConfigError("--output", args.output, "a new file name (it exists)")
     if len(set(map(os.path.abspath, args.files))) != len(args.files):
         raise ConfigError("files", args.files, "distinct files")
-    n = merge_files(args.files, args.output)
-    print(f"{args.output}: {n} jobs from {len(args.files)} files")
+    if args.prefer is not None and os.path.abspath(args.prefer) not in map(os.path.abspath,
+                                                                           args.files):
+        raise ConfigError("--prefer", args.prefer, "one of the files being merged")
+    n = merge_files(args.files, args.output, on_conflict=args.on_conflict, prefer=args.prefer,
+                    include_unchecked=args.include_unchecked)
+    left = [f"{n[k]} {what}" for k, what in (("foreign", "foreign left out"),
+                                             ("unchecked_left_out", "unchecked left out"),
+                                             ("conflicts", "conflict(s) resolved")) if n[k]]
+    print(f"{args.output}: {n['jobs']} jobs from {len(args.files)} files"
+          + (f" ({', '.join(left)})" if left else ""))
     return EXIT_OK
 
 
 # ------------------------------------------------------------------------------------ verify
 def cmd_verify(args) -> int:
-    """Check every record; exit 0 when nothing is wrong, 1 when records or journal frames are
-    damaged, 2 when the HDF5 structure cannot be read."""
+    """Check every record; exit 0 when every record is verified, 1 when records or journal
+    frames are damaged, unchecked or foreign, 2 when the HDF5 structure cannot be read."""
     from ..campaign.storage.verify import verify_file
 
     _existing(args.file, "file")       # not a campaign file: one line, exit 2 (not "damaged")
@@ -287,7 +316,8 @@ def cmd_salvage(args) -> int:
         raise ConfigError("--output", args.output, "a new file name (it exists)")
     n = salvage_file(args.file, args.output, keep_unchecked=args.keep_unchecked)
     print(f"{args.output}: {n['copied']} record(s) copied ({n['from_journal']} from the journal);"
-          f" {n['corrupt']} corrupt and {n['unchecked_left_out']} unchecked left out; rerun the "
+          f" {n['corrupt']} corrupt, {n['foreign']} foreign and {n['unchecked_left_out']} "
+          "unchecked left out; rerun the "
           f"campaign with --output {args.output} to recompute what is missing")
     return EXIT_OK
 
@@ -308,7 +338,8 @@ def cmd_report(args) -> int:
             from None
     if not os.access(args.out, os.W_OK):
         raise ConfigError("--out", args.out, "a writable folder")
-    files = write_report(args.file, args.out, n_boot=args.n_boot)
+    files = write_report(args.file, args.out, n_boot=args.n_boot,
+                         include_unchecked=args.include_unchecked)
     for f in files:
         print(f)
     return EXIT_OK

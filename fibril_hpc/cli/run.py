@@ -9,7 +9,7 @@ import sys
 from .._version import __version__
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError, DiskFull, StoreError
 from ..io.results import software_versions
-from .common import Parser, error, setup_logging
+from .common import Parser, error, memory_guard, setup_logging
 
 PROG = "fibril-run"
 
@@ -45,6 +45,7 @@ def _human(result) -> str:
     return "\n".join(lines)
 
 
+@memory_guard(PROG)
 def main(argv=None) -> int:
     """``fibril-run``: simulate one scene; returns the exit status."""
     p = Parser(prog=PROG, description="Simulate the pull-off of one pillar-array scene.")

@@ -26,26 +26,65 @@ BUILTIN_SCENES = {
 }
 
 
+#: most values a YAML document may expand to (aliases counted as often as they are used): a
+#: scene or grid holds a few thousand at most, an alias bomb billions
+MAX_YAML_VALUES = 1_000_000
+
+
+def expanded_size(obj, limit: int = MAX_YAML_VALUES) -> int:
+    """Values of ``obj`` counted as if every alias were copied out (each shared container
+    counted once per use, computed once: fast however large the expansion), capped at
+    ``limit + 1``."""
+    memo: dict = {}
+
+    def size(o, depth=0) -> int:
+        if not isinstance(o, (list, dict)):
+            return 1
+        if id(o) in memo:
+            return memo[id(o)]
+        if depth > 200:                     # deeper than any scene: count it as too big
+            return limit + 1
+        memo[id(o)] = limit + 1             # a cycle (a recursive alias) is too big
+        items = o.values() if isinstance(o, dict) else o
+        n = 1
+        for v in items:
+            n += size(v, depth + 1)
+            if n > limit:
+                break
+        memo[id(o)] = min(n, limit + 1)
+        return memo[id(o)]
+
+    return size(obj)
+
+
 def read_yaml(path: str, field: str = "scene") -> object:
-    """Parse a YAML file; any I/O or syntax problem becomes a one-line ConfigError."""
+    """Parse a YAML file; any I/O or syntax problem, and a document that expands to more than
+    :data:`MAX_YAML_VALUES` values (an alias bomb), becomes a one-line ConfigError."""
     if not os.path.isfile(path):
         raise ConfigError(field, path, "an existing YAML file")
     try:
         with open(path, encoding="utf-8") as fh:
-            return yaml.safe_load(fh)
+            data = yaml.safe_load(fh)
+    except RecursionError:
+        raise ConfigError(field, path, "YAML nested less deeply") from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}" if mark is not None else ""
         raise ConfigError(field, path, f"valid YAML (parse error{where})") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise ConfigError(field, path, f"a readable UTF-8 file ({exc.__class__.__name__})") from None
+    if expanded_size(data) > MAX_YAML_VALUES:
+        raise ConfigError(field, path, f"YAML of at most {MAX_YAML_VALUES} values once its "
+                          "aliases are expanded (an alias bomb?)")
+    return data
 
 
 def load_scene(path: str) -> Scene:
     """Read and validate a scene YAML file."""
     data = read_yaml(path)
-    if data is None:
-        data = {}
+    if data is None:                   # an empty file is a mistake, not the default scene
+        raise ConfigError("scene", path, "a YAML mapping of scene fields (this file is empty; "
+                          "write {} for the default scene)")
     for key in ("heights", "k_law"):
         if isinstance(data, dict) and is_height_file(data.get(key)):
             # a measured height/stiffness file is named relative to the scene file's folder

@@ -14,11 +14,16 @@ The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
 (``solver.preconditioner`` ``auto``, ``two_level`` or ``moments`` on at most
 ``coarse.MAX_PILLARS`` pillars): :func:`coarse_bytes` or :func:`moment_bytes`, dense
 pillar x pillar arrays that grow with n_side^4, not with the grid.
-It is compared with the memory available now (``MemAvailable`` of
-``/proc/meminfo``, or a cgroup's limit when lower); ``--ignore-memory-check`` runs anyway.
+It is compared with the memory available now: the least of ``MemAvailable`` of
+``/proc/meminfo``, what the process's own cgroup (v1 or v2, found through ``/proc/self/cgroup``,
+and each parent) leaves, and the address space left under ``RLIMIT_AS``;
+``--ignore-memory-check`` runs anyway.
 """
 
 from __future__ import annotations
+
+import os
+import resource
 
 from ..elastic.greens import padded_size
 from ..errors import ConfigError
@@ -114,26 +119,95 @@ def memory_estimate(scene) -> tuple[int, int, int]:
     return need, n, m
 
 
-def available_memory() -> int | None:
-    """Bytes of memory available now (None when unknown)."""
+def _read_int(path: str) -> int | None:
+    try:
+        with open(path) as fh:
+            text = fh.read().strip()
+        return int(text)
+    except (OSError, ValueError):
+        return None
+
+
+def _own_cgroups(proc: str = "/proc") -> list:
+    """(version, path) of the memory cgroups of this process, from ``/proc/self/cgroup``:
+    ``(2, "/a/b")`` for the unified hierarchy (``0::/a/b``), ``(1, "/a/b")`` for a v1 memory
+    controller line (``N:memory:/a/b``)."""
+    out = []
+    try:
+        with open(os.path.join(proc, "self", "cgroup")) as fh:
+            lines = fh.read().splitlines()
+    except OSError:
+        return out
+    for line in lines:
+        parts = line.split(":", 2)
+        if len(parts) != 3:
+            continue
+        _, ctrls, path = parts
+        if ctrls == "":
+            out.append((2, path))
+        elif "memory" in ctrls.split(","):
+            out.append((1, path))
+    return out
+
+
+def cgroup_memory(proc: str = "/proc", sys_fs: str = "/sys/fs/cgroup") -> int | None:
+    """Bytes this process may still use under its own memory cgroup(s) and their parents (v2
+    ``memory.max`` - ``memory.current``, v1 ``memory.limit_in_bytes`` - ``memory.usage_in_bytes``),
+    None when no limit is set."""
+    best = None
+    for version, path in _own_cgroups(proc):
+        base = sys_fs if version == 2 else os.path.join(sys_fs, "memory")
+        files = (("memory.max", "memory.current") if version == 2 else
+                 ("memory.limit_in_bytes", "memory.usage_in_bytes"))
+        if version == 2 and not os.path.exists(os.path.join(base, "cgroup.controllers")):
+            base = os.path.join(sys_fs, "unified")      # a hybrid host
+        rel = path.strip("/")
+        while True:                                      # the cgroup, then each parent
+            folder = os.path.join(base, rel) if rel else base
+            limit = _read_int(os.path.join(folder, files[0]))
+            if limit is not None and 0 < limit < (1 << 60):
+                used = _read_int(os.path.join(folder, files[1])) or 0
+                left = max(0, limit - used)
+                best = left if best is None else min(best, left)
+            if not rel:
+                break
+            rel = os.path.dirname(rel)
+    return best
+
+
+def address_space_left(proc: str = "/proc") -> int | None:
+    """Bytes of address space left under ``RLIMIT_AS`` (``ulimit -v``), None when unlimited."""
+    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    if soft == resource.RLIM_INFINITY or soft < 0:
+        return None
+    size = 0
+    try:
+        with open(os.path.join(proc, "self", "status")) as fh:
+            for line in fh:
+                if line.startswith("VmSize:"):
+                    size = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError):
+        pass
+    return max(0, soft - size)
+
+
+def available_memory(proc: str = "/proc", sys_fs: str = "/sys/fs/cgroup") -> int | None:
+    """Bytes of memory available to this process now (None when unknown): the least of
+    ``MemAvailable`` (``/proc/meminfo``), what its own cgroup v1/v2 (and each parent) leaves,
+    read through ``/proc/self/cgroup``, and the address space left under ``RLIMIT_AS``."""
     avail = None
     try:
-        with open("/proc/meminfo") as fh:
+        with open(os.path.join(proc, "meminfo")) as fh:
             for line in fh:
                 if line.startswith("MemAvailable:"):
                     avail = int(line.split()[1]) * 1024
                     break
     except (OSError, ValueError):
         pass
-    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
-        try:
-            with open(path) as fh:
-                text = fh.read().strip()
-            limit = int(text)
-        except (OSError, ValueError):
-            continue
-        if 0 < limit < (1 << 60):
-            avail = limit if avail is None else min(avail, limit)
+    for left in (cgroup_memory(proc, sys_fs), address_space_left(proc)):
+        if left is not None:
+            avail = left if avail is None else min(avail, left)
     return avail
 
 

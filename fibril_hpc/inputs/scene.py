@@ -286,7 +286,7 @@ class Scene:
     phi: float = _in(0.16, Real(0, PHI_MAX, lo_open=True, hi_open=True))
     k_tilde: float = _in(0.01, Real(0, lo_open=True, note=", or inf for rigid pillars"))
     sigma_tilde: float = _in(0.5, Real(0, 1000))
-    d_tilde: tuple | None = _in(None, Real(), many=True)
+    d_tilde: tuple | None = _in(None, Real(hi_open=True), many=True)   # finite: no .inf
     F_P: tuple | None = _in(None, Real(0, 1e6, lo_open=True, hi_open=True), many=True)
     seed: int = _in(0, Int(0, 2**63 - 1, hi_text="2**63-1"))
     elements_per_diameter: float | None = _in(None, Real(2, 128))

@@ -32,6 +32,8 @@ from .._version import __version__
 from ..errors import StoreError
 from ..inputs.config import scene_to_yaml
 from ..inputs.scene import scene_from_dict
+from ..inputs.limits import MAX_GRID_SIDE
+from . import h5check
 from .files import write_bytes_atomically
 from .results import Curve, PillarState, PreloadResult, SimulationResult, json_safe
 
@@ -123,67 +125,97 @@ def _unsafe(obj):
     return obj
 
 
-def _text(v):
-    return v.decode() if isinstance(v, bytes) else v
+def _group(parent, name):
+    return h5check.member(parent, name, h5check.Group)
 
 
-def _scalar(v):
-    v = _text(v)
-    return v.item() if isinstance(v, np.generic) else v
-
-
-def _read_curve(group, name):
-    if name not in group:
+def _curve(group, name):
+    g = _group(group, name)
+    if g is None:
         return None
-    g = group[name]
-    return Curve(*(g[k][()] for k in CURVE_FIELDS),
-                 d_machine_tilde=g["d_machine_tilde"][()] if "d_machine_tilde" in g else None)
+    arrays = [h5check.read_dataset(g, k, h5check.INT if k == "n_pillars_in_contact" else
+                                   h5check.FLOAT) for k in CURVE_FIELDS]
+    if any(a is None for a in arrays):
+        raise StoreError(f"{g.name}: a curve array is missing")
+    if len({len(a) for a in arrays}) != 1:
+        raise StoreError(f"{g.name}: curve arrays of different lengths")
+    return Curve(*arrays, d_machine_tilde=h5check.read_dataset(g, "d_machine_tilde",
+                                                               h5check.FLOAT))
 
 
-def _read_state(group, name):
-    if name not in group:
+def _state(group, name):
+    g = _group(group, name)
+    if g is None:
         return None
-    g = group[name]
-    return PillarState(*(g[k][()] for k in STATE_FIELDS), d_tilde=float(g.attrs["d_tilde"]))
+    arrays = [h5check.read_dataset(g, k, h5check.NUMBER, ndim=None,
+                                   max_elements=MAX_GRID_SIDE**2) for k in STATE_FIELDS]
+    if any(a is None for a in arrays):
+        raise StoreError(f"{g.name}: a pillar-state array is missing")
+    d = h5check.read_attr(g, "d_tilde") if "d_tilde" in h5check.attr_names(g) else None
+    if not isinstance(d, (int, float)) or isinstance(d, bool):
+        raise StoreError(f"{g.name}@d_tilde: not a number")
+    return PillarState(*arrays, d_tilde=float(d))
+
+
+def _json_attr(a: dict, k: str):
+    v = a.get(k)
+    if not isinstance(v, str):
+        raise StoreError(f"attribute {k}: not a JSON text")
+    return _unsafe(json.loads(v))
 
 
 def read_result(group) -> SimulationResult:
-    """Read one simulation written by :func:`write_result` from an h5py group."""
-    a = group.attrs
-    if _text(a.get("program")) != PROGRAM:
+    """Read one simulation written by :func:`write_result` from an h5py group, through the
+    checked path of :mod:`fibril_hpc.h5check` (hard links only, data in the file, dtypes and
+    shapes checked before reading); anything else is one :class:`StoreError` line."""
+    a = h5check.read_attrs(group)
+    if a.get("program") != PROGRAM:
         raise StoreError(f"{group.file.filename}: not a fibril-run result file")
-    res = SimulationResult(
-        scene=scene_from_dict(yaml.safe_load(_text(a["scene_yaml"]))),
-        status=_text(a["status"]), message=_text(a["message"]),
-        **{k: _unsafe(json.loads(_text(a[k])))
-           for k in ("discretisation", "stats", "versions", "definitions")})
-    if "pillars" in group:
-        res.xi = group["pillars"]["xi"][()]
-        res.zeta_tilde = group["pillars"]["zeta_tilde"][()]
-    pre = group["preloads"]
-    for i in sorted(pre, key=int):
-        g = pre[i]
-        r = PreloadResult(**{k: _scalar(v) for k, v in g.attrs.items()})
-        r.loading, r.unloading = _read_curve(g, "loading"), _read_curve(g, "unloading")
-        r.at_preload, r.at_pulloff = _read_state(g, "at_preload"), _read_state(g, "at_pulloff")
-        if "let_go_d_tilde" in g:
-            r.let_go_d_tilde = g["let_go_d_tilde"][()]
+    for k in ("scene_yaml", "status", "message"):
+        if not isinstance(a.get(k), str):
+            raise StoreError(f"attribute {k}: missing or not a text")
+    scene = yaml.safe_load(a["scene_yaml"])
+    res = SimulationResult(scene=scene_from_dict(scene if scene is not None else {}),
+                           status=a["status"], message=a["message"],
+                           **{k: _json_attr(a, k)
+                              for k in ("discretisation", "stats", "versions", "definitions")})
+    pg = _group(group, "pillars")
+    if pg is not None:
+        res.xi = h5check.read_dataset(pg, "xi", h5check.NUMBER, ndim=None)
+        res.zeta_tilde = h5check.read_dataset(pg, "zeta_tilde", h5check.NUMBER, ndim=None)
+    pre = _group(group, "preloads")
+    if pre is None:
+        raise StoreError("no preloads group")
+    names = h5check.names(pre)
+    if not all(n.isdigit() and len(n) < 9 for n in names):
+        raise StoreError("preloads: members other than 0, 1, 2 ...")
+    for i in sorted(names, key=int):
+        g = _group(pre, i)
+        r = PreloadResult(**h5check.read_attrs(g))
+        r.loading, r.unloading = _curve(g, "loading"), _curve(g, "unloading")
+        r.at_preload, r.at_pulloff = _state(g, "at_preload"), _state(g, "at_pulloff")
+        r.let_go_d_tilde = h5check.read_dataset(g, "let_go_d_tilde", h5check.FLOAT)
         res.results.append(r)
     return res
 
 
 def read_result_file(path: str) -> SimulationResult:
-    """Read a file written by ``fibril-run --out`` (or :func:`write_result_file`).
+    """Read a file written by ``fibril-run --out`` (or :func:`write_result_file`). Whatever the
+    file holds, an error is one :class:`StoreError` line.
 
     Examples
     --------
     >>> r = read_result_file("out.h5")                  # doctest: +SKIP
     >>> r.main.F_A, r.main.unloading.F_tilde            # doctest: +SKIP
     """
-    import h5py
-
+    fh = h5check.open_file(path)
     try:
-        with h5py.File(path, "r") as fh:
+        with fh:
             return read_result(fh)
-    except OSError as exc:
-        raise StoreError(f"cannot open {path} as HDF5: {exc}") from None
+    except StoreError as exc:
+        raise StoreError(f"{path}: {exc}") from None
+    except MemoryError:
+        raise StoreError(f"{path}: not enough memory to read it") from None
+    except Exception as exc:  # noqa: BLE001 - a hostile file: whatever it makes the parsers say
+        raise StoreError(f"{path}: not a readable fibril-run result file "
+                         f"({h5check.describe(exc)})") from None

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import logging
 import math
 
 import numpy as np
@@ -10,6 +11,8 @@ import numpy as np
 from ...errors import ConfigError, StoreError
 from ..storage.record import COLUMNS, JobRecord
 from ..storage.store import read_snapshot
+
+log = logging.getLogger(__name__)
 
 
 class CampaignData:
@@ -27,13 +30,22 @@ class CampaignData:
     corrupt : dict
         Job key -> why, for records of the file that failed their checksum or could not be
         read: they are *not* in :attr:`jobs` (a warning is logged; resume recomputes them).
+    unchecked : set
+        Keys of records without a checksum (nothing vouches for them): in :attr:`jobs` only
+        when read with ``include_unchecked=True``.
+    foreign : dict
+        Name -> why, for members of ``/jobs`` that live elsewhere (links, external data) or are
+        no job of the file's grids: never in :attr:`jobs`.
     """
 
-    def __init__(self, meta, jobs, pending_in_journal=0, corrupt=None):
+    def __init__(self, meta, jobs, pending_in_journal=0, corrupt=None, unchecked=(),
+                 foreign=None):
         self.meta = meta
         self.jobs = jobs
         self.pending_in_journal = pending_in_journal
         self.corrupt = dict(corrupt or {})
+        self.unchecked = set(unchecked)
+        self.foreign = dict(foreign or {})
 
     def __len__(self):
         return len(self.jobs)
@@ -134,8 +146,12 @@ def _sort_key(j):
             j.get("preload", 0.0))
 
 
-def load_campaign(path: str, curves: bool = True) -> CampaignData:
+def load_campaign(path: str, curves: bool = True, include_unchecked: bool = False) -> CampaignData:
     """Read a campaign file (and the journal of a campaign still running) into a table.
+
+    Only records this code can vouch for are returned (docs/robustness.md): records without a
+    checksum (*unchecked*) are left out, with a warning, unless ``include_unchecked``; foreign
+    and corrupt ones always (listed in :attr:`CampaignData.foreign` and ``corrupt``).
 
     Examples
     --------
@@ -147,5 +163,17 @@ def load_campaign(path: str, curves: bool = True) -> CampaignData:
     snap = read_snapshot(path, curves=curves)
     if not snap.root:
         raise StoreError(f"{path}: no campaign file here")
-    jobs = sorted((fill_k_machine(r) for r in snap.records.values()), key=_sort_key)
-    return CampaignData(snap.root, jobs, snap.pending, snap.corrupt)
+    recs = snap.records
+    if snap.unchecked_keys and not include_unchecked:
+        recs = {k: r for k, r in recs.items() if k not in snap.unchecked_keys}
+        log.warning("%s: %d unchecked record(s) (no checksum) left out; nothing vouches for "
+                    "them (include them with include_unchecked=True / --include-unchecked)",
+                    path, snap.unchecked)
+    if snap.foreign:
+        keys = sorted(snap.foreign)
+        log.warning("%s: %d foreign member(s) of /jobs left out (%s%s): `fibril-campaign verify "
+                    "%s` says why", path, len(keys), ", ".join(k[:40] for k in keys[:3]),
+                    " ..." if len(keys) > 3 else "", path)
+    jobs = sorted((fill_k_machine(r) for r in recs.values()), key=_sort_key)
+    return CampaignData(snap.root, jobs, snap.pending, snap.corrupt, snap.unchecked_keys,
+                        snap.foreign)

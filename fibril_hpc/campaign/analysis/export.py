@@ -19,10 +19,11 @@ def _csv_value(v):
     return "" if v is None else v
 
 
-def export_csv(path: str, out: str) -> int:
+def export_csv(path: str, out: str, include_unchecked: bool = False) -> int:
     """Write the jobs of the campaign file ``path`` to ``out`` (atomically: temporary file +
-    rename; a full disk is a one-line :class:`~fibril_hpc.errors.DiskFull`); returns the rows."""
-    c = load_campaign(path, curves=False)
+    rename; a full disk is a one-line :class:`~fibril_hpc.errors.DiskFull`); returns the rows.
+    Records without a checksum are left out unless ``include_unchecked``."""
+    c = load_campaign(path, curves=False, include_unchecked=include_unchecked)
     buf = io.StringIO(newline="")
     w = csv.writer(buf)
     w.writerow(COLUMNS)
@@ -42,10 +43,10 @@ def parquet_available() -> bool:
     return True
 
 
-def export_parquet(path: str, out: str) -> int:
+def export_parquet(path: str, out: str, include_unchecked: bool = False) -> int:
     """Write the jobs of ``path`` to the Parquet file ``out`` (atomically, typed columns);
-    returns the rows. Needs pandas and pyarrow."""
-    df = load_campaign(path, curves=False).frame()
+    returns the rows. Needs pandas and pyarrow. Unchecked records as in :func:`export_csv`."""
+    df = load_campaign(path, curves=False, include_unchecked=include_unchecked).frame()
     buf = io.BytesIO()
     df.to_parquet(buf, engine="pyarrow", index=False)
     write_bytes_atomically(out, buf.getvalue(), "writing the Parquet export",

@@ -39,11 +39,13 @@ def chosen_curve_jobs(jobs, studies, per_k: int = 1) -> list:
     return out
 
 
-def write_report(path: str, out_dir: str, n_boot: int = N_BOOT) -> list:
+def write_report(path: str, out_dir: str, n_boot: int = N_BOOT,
+                 include_unchecked: bool = False) -> list:
     """Write every figure, table, ``README.md`` and ``report.html`` of the campaign ``path``
-    into ``out_dir``; returns the paths written."""
+    into ``out_dir`` (from the verified records; unchecked ones too with
+    ``include_unchecked``); returns the paths written."""
     t0 = time.perf_counter()
-    c = load_campaign(path, curves=True)
+    c = load_campaign(path, curves=True, include_unchecked=include_unchecked)
     d = build(c, path, n_boot=n_boot)
     os.makedirs(out_dir, exist_ok=True)
     kms = tables.machines(c.jobs)

@@ -19,6 +19,8 @@ from ..storage.store import read_records
 from .data import load_campaign
 
 STATES = ("done", "failed", "pending")
+#: a record without a checksum: shown apart (nothing vouches for it; resume does not rerun it)
+UNCHECKED = "unchecked"
 
 
 @dataclass
@@ -33,6 +35,10 @@ class FileStatus:
     failed: list = field(default_factory=list)
     #: keys of corrupt records (counted as pending: resume recomputes them)
     corrupt: list = field(default_factory=list)
+    #: keys of records without a checksum (counted apart, in ``totals["unchecked"]``)
+    unchecked: list = field(default_factory=list)
+    #: members of /jobs that are not this file's own records (name -> why): never counted
+    foreign: dict = field(default_factory=dict)
 
 
 def _grid_jobs(meta: dict, path: str, records=()) -> dict | None:
@@ -60,23 +66,25 @@ def _grid_jobs(meta: dict, path: str, records=()) -> dict | None:
 
 def file_status(path: str) -> FileStatus:
     """Done, failed and pending jobs of the file at ``path`` (pending: in its grid, no record)."""
-    c = load_campaign(path, curves=False)
+    c = load_campaign(path, curves=False, include_unchecked=True)
     grid = _grid_jobs(c.meta, path, c.jobs) or {}
     recs = {j["key"]: j for j in c.jobs}
     by_k: dict = {}
     for k in set(recs) | set(grid):
         r = recs.get(k)
         kt = r["k_tilde"] if r else grid[k].k_tilde
-        st = r["status"] if r else "pending"
-        d = by_k.setdefault(kt, dict.fromkeys(STATES, 0))
+        st = UNCHECKED if k in c.unchecked else r["status"] if r else "pending"
+        d = by_k.setdefault(kt, dict.fromkeys(STATES + (UNCHECKED,), 0))
         d[st if st in d else "failed"] += 1
-    totals = {s: sum(d[s] for d in by_k.values()) for s in STATES}
-    walls = [r["wall_s"] / max(1, r.get("group_size", 1)) for r in c.jobs
+    totals = {s: sum(d[s] for d in by_k.values()) for s in STATES + (UNCHECKED,)}
+    vouched = [r for r in c.jobs if r["key"] not in c.unchecked]
+    walls = [r["wall_s"] / max(1, r.get("group_size", 1)) for r in vouched
              if r["status"] == "done"]
     return FileStatus(meta=c.meta, totals=totals, by_k_tilde=dict(sorted(by_k.items())),
                       in_journal=c.pending_in_journal, done_wall_s=walls,
-                      corrupt=sorted(c.corrupt),
-                      failed=[r for r in c.jobs if r["status"] == "failed"])
+                      corrupt=sorted(c.corrupt), unchecked=sorted(c.unchecked),
+                      foreign=dict(c.foreign),
+                      failed=[r for r in vouched if r["status"] == "failed"])
 
 
 @dataclass

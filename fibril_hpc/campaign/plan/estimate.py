@@ -34,6 +34,7 @@ import numpy as np
 
 from ...elastic.halfspace import HalfSpace
 from ...geometry.grid import Lattice, build_pillar_grid
+from ...inputs.limits import memory_estimate
 
 #: FFT pairs per pillar per sqrt(element per pillar) of the loading path of a task
 PAIRS_LOADING = 2.9
@@ -50,8 +51,27 @@ PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
 OVERHEAD = {"fast": 3.0, "default": 2.8, "accurate": 2.3}
 
 
+#: largest FFT side timed for the estimate; a larger grid is timed on fewer pillars (same
+#: resolution) and scaled by m^2 log m, so ``--dry-run`` never allocates a large operator
+MAX_TIMED_FFT = 2048
+
+
 def fft_pair_seconds(scene, repeats: int = 20) -> tuple[float, int, int]:
-    """(seconds per FFT pair, FFT size, elements per pillar) timed on ``scene``'s grid."""
+    """(seconds per FFT pair, FFT size, elements per pillar) timed on ``scene``'s grid (on a
+    smaller brush of the same resolution when its FFT side exceeds :data:`MAX_TIMED_FFT`)."""
+    _, _, m = memory_estimate(scene)
+    if m <= MAX_TIMED_FFT:
+        return _timed_pair(scene, repeats)
+    proxy = scene
+    mp = m
+    while mp > MAX_TIMED_FFT and proxy.n_side > 1:
+        proxy = proxy.replace(n_side=max(1, int(proxy.n_side * MAX_TIMED_FFT / mp)))
+        _, _, mp = memory_estimate(proxy)
+    pair_s, mp, epp = _timed_pair(proxy, repeats)
+    return pair_s * (m * m * math.log2(m)) / (mp * mp * math.log2(mp)), m, epp
+
+
+def _timed_pair(scene, repeats: int) -> tuple[float, int, int]:
     lat = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice)
     fp = lat.footprint
     grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter,

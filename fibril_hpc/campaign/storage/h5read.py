@@ -14,25 +14,18 @@ import os
 from dataclasses import dataclass, field
 
 import h5py
-import numpy as np
 
 from ...errors import DamagedFileError, StoreError
+from ...io import h5check
 from . import integrity
-from .record import BRANCHES, CURVE_KEYS, OPTIONAL_CURVE_KEYS
+from .grids import GridIndex
+from .record import BRANCHES, CURVE_KEYS, CURVE_KINDS, OPTIONAL_CURVE_KEYS, layout_problem
 
 log = logging.getLogger(__name__)
 
 PROGRAM = "fibril-hpc campaign"
 #: root dataset of object references to every job group (written by :mod:`.store`)
 REFS = "job_refs"
-
-
-def _attr(v):
-    if isinstance(v, bytes):
-        return v.decode()
-    if isinstance(v, np.generic):
-        return v.item()
-    return v
 
 
 def damaged_error(path: str, exc) -> DamagedFileError:
@@ -47,7 +40,9 @@ def read_root(path: str) -> dict:
     """Root attributes of a campaign file (StoreError if it is not one)."""
     try:
         with h5py.File(path, "r") as fh:
-            attrs = {k: _attr(v) for k, v in fh.attrs.items()}
+            attrs = h5check.read_attrs(fh)
+    except StoreError as exc:
+        raise StoreError(f"{path}: {exc}") from None
     except FileNotFoundError:
         raise StoreError(f"cannot open {path}: no such file") from None
     except Exception as exc:  # noqa: BLE001
@@ -69,14 +64,26 @@ def _is_hdf5(path: str) -> bool:
 
 
 def _read_group(g) -> dict:
-    rec = {k: _attr(v) for k, v in g.attrs.items()}
+    """One job group through the checked path (:mod:`fibril_hpc.h5check`): hard links only,
+    data in the file, the layout's dtypes and shapes (StoreError / ForeignError otherwise)."""
+    rec = h5check.read_attrs(g)
     for branch in BRANCHES:
-        if branch in g:
-            rec[branch] = {k: g[branch][k][()] for k in CURVE_KEYS + OPTIONAL_CURVE_KEYS
-                           if k in g[branch]}
-        else:
-            rec[branch] = None
+        bg = h5check.member(g, branch, h5py.Group)
+        rec[branch] = None if bg is None else {
+            k: v for k in CURVE_KEYS + OPTIONAL_CURVE_KEYS
+            if (v := h5check.read_dataset(bg, k, CURVE_KINDS[k])) is not None}
+    problem = layout_problem(rec)
+    if problem:
+        raise StoreError(f"{g.name}: not the layout ({problem})")
     return rec
+
+
+def _open_job(jobs, k: str):
+    """The group ``jobs/<k>`` (hard link only; ForeignError / StoreError otherwise)."""
+    g = h5check.member(jobs, k)
+    if not isinstance(g, h5py.Group):
+        raise StoreError(f"/jobs/{k} is not a group")
+    return g
 
 
 @dataclass
@@ -86,7 +93,18 @@ class H5Read:
     root: dict = field(default_factory=dict)
     records: dict = field(default_factory=dict)
     corrupt: dict = field(default_factory=dict)      # key -> why
-    unchecked: int = 0
+    #: members of /jobs that nothing vouches for as this file's own: links to elsewhere,
+    #: data stored elsewhere, keys that are no job of the file's grids (name -> why)
+    foreign: dict = field(default_factory=dict)
+    #: keys of ``records`` without a checksum (written before checksums, or stripped of it)
+    unchecked_keys: set = field(default_factory=set)
+    #: the file's grids (which keys belong)
+    index: GridIndex = field(default_factory=GridIndex)
+
+    @property
+    def unchecked(self) -> int:
+        """How many records carry no checksum."""
+        return len(self.unchecked_keys)
 
 
 def read_h5_checked(path: str, curves: bool = True, tolerant: bool = False) -> H5Read:
@@ -110,55 +128,88 @@ def read_h5_checked(path: str, curves: bool = True, tolerant: bool = False) -> H
             out.root = _root_attrs(fh, tolerant)
             jobs = _get(fh, "jobs", tolerant)
             keys = _job_names(jobs, tolerant)
+        except h5check.ForeignError:
+            raise
         except Exception as exc:  # noqa: BLE001
             raise damaged_error(path, exc) from None
         if out.root.get("program") != PROGRAM and not tolerant:
             raise StoreError(f"{path} is not a fibril-hpc campaign file")
+        out.index = GridIndex.of_root(out.root)
         for k in keys:
             try:
-                rec = _read_group(jobs[k])
+                rec = _read_group(_open_job(jobs, k))
+            except h5check.ForeignError as exc:
+                out.foreign[k] = str(exc)
+                continue
             except Exception as exc:  # noqa: BLE001 - a damaged group is one corrupt record
-                out.corrupt[k] = f"unreadable ({type(exc).__name__})"
+                out.corrupt[k] = _why(exc)
                 continue
-            state = integrity.check(rec)
-            if state == integrity.CORRUPT or rec.get("key", k) != k:
-                out.corrupt[k] = "checksum mismatch"
-                continue
-            out.unchecked += state == integrity.UNCHECKED
-            if not curves:
-                rec.pop("loading", None)
-                rec.pop("unloading", None)
-            out.records[k] = rec
+            _classify(out, k, rec, curves)
         if tolerant:
             _salvage_by_reference(fh, out, curves)
     return out
 
 
+def _why(exc) -> str:
+    if isinstance(exc, StoreError):
+        return "unreadable (" + str(exc).split(": ", 1)[-1][:200] + ")"
+    return f"unreadable ({type(exc).__name__})"
+
+
+def _classify(out: H5Read, k: str, rec: dict, curves: bool) -> None:
+    """File a record that reads: corrupt (checksum or name mismatch), foreign (not a job of
+    the file's grids), else a record (unchecked when it carries no checksum)."""
+    state = integrity.check(rec)
+    if state == integrity.CORRUPT or rec.get("key") != k:
+        out.corrupt[k] = "checksum mismatch" if state == integrity.CORRUPT else \
+            "stored under another key's name"
+        return
+    if not out.index.belongs(rec):
+        out.foreign[k] = "its key is no job of the file's grid(s)"
+        return
+    if state == integrity.UNCHECKED:
+        out.unchecked_keys.add(k)
+    if not curves:
+        rec.pop("loading", None)
+        rec.pop("unloading", None)
+    out.records[k] = rec
+
+
 def _get(fh, name: str, tolerant: bool):
-    if not tolerant:
-        return fh.get(name)
     try:
-        return fh.get(name)
+        return h5check.member(fh, name, h5py.Group)
+    except h5check.ForeignError as exc:   # /jobs itself elsewhere: nothing here is this file's
+        if tolerant:
+            return None
+        raise h5check.ForeignError(f"{fh.filename}: {exc}; not a campaign file of its own") \
+            from None
     except Exception:  # noqa: BLE001 - a damaged group: reach its members by reference
-        return None
+        if tolerant:
+            return None
+        raise
 
 
 def _salvage_by_reference(fh, out: H5Read, curves: bool) -> None:
     """Records that their name no longer reaches (a damaged link index of ``/jobs``), opened
     through ``/job_refs`` (object references, i.e. addresses): only verified ones are taken."""
     try:
-        refs = fh[REFS][()]
+        ds = h5check.member(fh, REFS, h5py.Dataset)
+        h5check.check_dataset(ds, "O", 1)
+        refs = ds[()]
     except Exception:  # noqa: BLE001 - no index (older file) or a damaged one
         return
     for ref in refs:
         try:
-            rec = _read_group(fh[ref])
+            g = fh[ref]
+            if not isinstance(g, h5py.Group):     # an address in this file (never a link)
+                continue
+            rec = _read_group(g)
         except Exception:  # noqa: BLE001
             continue
         key = rec.get("key")
         if not isinstance(key, str) or key in out.records:
             continue
-        if integrity.check(rec) != integrity.OK:
+        if integrity.check(rec) != integrity.OK or not out.index.belongs(rec):
             continue
         out.corrupt.pop(key, None)
         if not curves:
@@ -169,7 +220,7 @@ def _salvage_by_reference(fh, out: H5Read, curves: bool) -> None:
 
 def _root_attrs(fh, tolerant: bool) -> dict:
     if not tolerant:
-        return {k: _attr(v) for k, v in fh.attrs.items()}
+        return h5check.read_attrs(fh)
     out = {}
     try:
         names = list(fh.attrs)
@@ -177,7 +228,7 @@ def _root_attrs(fh, tolerant: bool) -> dict:
         return out
     for k in names:
         try:
-            out[k] = _attr(fh.attrs[k])
+            out[k] = h5check.read_attr(fh, k)
         except Exception:  # noqa: BLE001 - a damaged attribute is left out
             pass
     return out
@@ -187,7 +238,7 @@ def _job_names(jobs, tolerant: bool) -> list:
     if jobs is None:
         return []
     if not tolerant:
-        return list(jobs)
+        return h5check.names(jobs)
     names = []
     try:
         n = jobs.id.get_num_objs()

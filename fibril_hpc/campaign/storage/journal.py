@@ -20,7 +20,8 @@ The journal is data, never code. One frame::
 
 The reader resynchronises: after a damaged stretch it looks for the next magic whose header
 checksum holds, so intact frames before *and after* damage are kept. Damaged stretches are
-reported (count and byte ranges, one line); frames of another campaign are refused (one line).
+reported (count and byte ranges, one line); frames of another campaign, and frames whose key is
+no job of the grid (*foreign*: never counted or published), are refused (one line).
 The writer (:class:`JournalWriter`) moves every damaged, foreign or old-format stretch to
 ``<journal>.quarantine`` and keeps the intact frames, so nothing is silently truncated away.
 
@@ -128,6 +129,8 @@ class Scan:
         self.damaged = []        # (start, end) byte ranges: corrupt, torn, malformed, unknown
         self.old = []            # (start, end) frames of the old pickle format (never unpickled)
         self.foreign = []        # (start, end) intact frames of another campaign
+        #: (start, end) intact frames of this campaign whose key is no job of its grid(s)
+        self.outside = []
         #: (start, end) of an unfinished last frame: a write in progress (a reader racing the
         #: writer) or cut short by a kill; expected, so never reported as damage
         self.torn = None
@@ -142,7 +145,7 @@ class Scan:
     @property
     def clean(self) -> bool:
         """Whether every byte belongs to an intact record of an accepted campaign."""
-        return not (self.damaged or self.old or self.foreign or self.torn)
+        return not (self.damaged or self.old or self.foreign or self.outside or self.torn)
 
     def message(self, path: str) -> str:
         """One line describing what is not intact ("" when everything is)."""
@@ -157,21 +160,25 @@ class Scan:
                          "(their jobs are recomputed)")
         if self.foreign:
             parts.append(f"{len(self.foreign)} frame(s) of another campaign, refused")
+        if self.outside:
+            parts.append(f"{len(self.outside)} frame(s) whose key is no job of the grid "
+                         "(foreign), refused")
         if not parts:
             return ""
         return (f"journal {path}: {len(self.records)} intact record(s) kept; "
                 + "; ".join(parts))
 
 
-def scan(data: bytes, accept=None) -> Scan:
+def scan(data: bytes, accept=None, belongs=None) -> Scan:
     """Parse journal bytes, resynchronising after damage. ``accept``: campaign hashes whose
-    frames are returned (None: every campaign). Never raises on any input."""
+    frames are returned (None: every campaign); ``belongs``: a predicate on a record (its key
+    is a job of the grid; None: every key). Never raises on any input."""
     digests = None if accept is None else {hash_digest(h) for h in accept}
     out = Scan()
     out.size = n = len(data)
     pos = 0
     while pos < n:
-        got = _frame_at(data, pos, digests, out)
+        got = _frame_at(data, pos, digests, out, belongs)
         if got:
             pos = got
             continue
@@ -206,7 +213,7 @@ def _next_magic(data: bytes, start: int) -> int:
     return min(cands) if cands else len(data)
 
 
-def _frame_at(data: bytes, pos: int, digests, out: Scan) -> int:
+def _frame_at(data: bytes, pos: int, digests, out: Scan, belongs=None) -> int:
     """End of a whole frame starting at ``pos`` (recorded in ``out``), or 0."""
     n = len(data)
     if data.startswith(OLD_MAGIC, pos) and pos + _OLD_HEAD.size <= n:
@@ -233,6 +240,8 @@ def _frame_at(data: bytes, pos: int, digests, out: Scan) -> int:
         return 0
     if digests is not None and digest not in digests:
         out.foreign.append((pos, end))
+    elif belongs is not None and not belongs(rec):
+        out.outside.append((pos, end))
     else:
         out.records.append((pos, end, rec))
     return end
@@ -247,10 +256,10 @@ def read_bytes(path: str) -> bytes:
         return b""
 
 
-def read(path: str, accept=None) -> tuple[list, Scan]:
+def read(path: str, accept=None, belongs=None) -> tuple[list, Scan]:
     """(records, scan) of a journal; a one-line warning is logged when something is not intact.
     Read-only: a reader never changes the journal (the writer quarantines)."""
-    s = scan(read_bytes(path), accept)
+    s = scan(read_bytes(path), accept, belongs)
     msg = s.message(path)
     if msg:
         log.warning("%s", msg)
@@ -273,10 +282,10 @@ class JournalWriter:
     intact frames only. ``replayed`` holds the intact records of the accepted campaigns.
     """
 
-    def __init__(self, path: str, accept=None):
+    def __init__(self, path: str, accept=None, belongs=None):
         self.path = path
         data = read_bytes(path)
-        s = scan(data, accept)
+        s = scan(data, accept, belongs)
         self.scan = s
         self.replayed = [r for _, _, r in s.records]
         if not s.clean:
@@ -285,7 +294,7 @@ class JournalWriter:
 
     def _repair(self, data: bytes, s: Scan) -> None:
         qpath = quarantine_path(self.path)
-        bad = sorted(s.damaged + s.old + s.foreign + ([s.torn] if s.torn else []))
+        bad = sorted(s.damaged + s.old + s.foreign + s.outside + ([s.torn] if s.torn else []))
         with open(qpath, "ab") as q:
             q.writelines(data[a:b] for a, b in bad)
             q.flush()

@@ -94,6 +94,58 @@ FIELD_NAMES = tuple(f.name for f in fields(JobRecord))
 SCALAR_KEYS = tuple(f.name for f in fields(JobRecord) if not f.metadata["curve"])
 #: the table of :func:`~fibril_hpc.campaign.analysis.data.load_campaign` and the CSV header
 COLUMNS = tuple(f.name for f in fields(JobRecord) if f.metadata["column"])
+#: the Python type of each HDF5 attribute of ``/jobs/<key>`` (float, int or str): what a reader
+#: accepts (an int where a float is due is taken; anything else is a layout violation)
+ATTR_TYPES = {f.name: {"float": float, "int": int, "str": str}[str(f.type).removesuffix(" | None")]
+              for f in fields(JobRecord) if not f.metadata["curve"]}
+#: the dtype kinds of the curve arrays (h5check kinds: "f" float, "iu" integer)
+CURVE_KINDS = {"d_tilde": "f", "F_tilde": "f", "contact_fraction": "f",
+               "n_pillars_in_contact": "iu", "d_machine_tilde": "f"}
+
+
+#: attributes every record has (a group without them is not a job record)
+REQUIRED = ("key", "status", "k_tilde", "sigma_tilde", "preload_kind", "preload", "seed",
+            "record_id")
+STATUSES = ("done", "failed")
+
+
+def layout_problem(rec: dict) -> str:
+    """What in the record ``rec`` (read from HDF5 or a journal frame) is not the layout's: a
+    missing required field, a field of the wrong type, curves that are not 1-D arrays of the
+    layout's dtypes and one length ("" when it is the layout)."""
+    import numpy as np
+
+    for k in REQUIRED:
+        if rec.get(k) is None:
+            return f"no {k}"
+    for k, t in ATTR_TYPES.items():
+        v = rec.get(k)
+        if v is None:
+            continue
+        ok = (isinstance(v, str) if t is str else
+              isinstance(v, (int, float)) and not isinstance(v, bool) if t is float else
+              isinstance(v, int) and not isinstance(v, bool))
+        if not ok:
+            return f"{k} is a {type(v).__name__}, not a {t.__name__}"
+    if rec["status"] not in STATUSES:
+        return f"status {rec['status'][:20]!r} is not done or failed"
+    for branch in BRANCHES:
+        c = rec.get(branch)
+        if c is None:
+            continue
+        if not isinstance(c, dict) or not set(CURVE_KEYS) <= set(c):
+            return f"{branch} lacks a curve array"
+        lengths = set()
+        for name, a in c.items():
+            kinds = CURVE_KINDS.get(name)
+            if kinds is None:
+                return f"{branch}/{name} is not a curve of the layout"
+            if not isinstance(a, np.ndarray) or a.ndim != 1 or a.dtype.kind not in kinds:
+                return f"{branch}/{name} is not a 1-D array of the layout's dtype"
+            lengths.add(len(a))
+        if len(lengths) != 1:
+            return f"{branch} curves of different lengths"
+    return ""
 
 
 def curve_dict(c) -> dict | None:
@@ -106,5 +158,6 @@ def curve_dict(c) -> dict | None:
     return out
 
 
-__all__ = ["JobRecord", "SCALAR_KEYS", "CURVE_KEYS", "OPTIONAL_CURVE_KEYS", "COLUMNS", "BRANCHES",
+__all__ = ["JobRecord", "SCALAR_KEYS", "ATTR_TYPES", "CURVE_KINDS",
+           "REQUIRED", "layout_problem", "CURVE_KEYS", "OPTIONAL_CURVE_KEYS", "COLUMNS", "BRANCHES",
            "FIELD_NAMES", "curve_dict"]

@@ -48,6 +48,7 @@ import numpy as np
 from ..._version import __version__
 from ...errors import StoreError
 from ...geometry.grid import Lattice
+from ...io import h5check
 from ...io.files import write_bytes_atomically
 from ...io.results import json_safe, software_versions
 from ..plan.spec import KEY_EXCLUDED_SOLVER
@@ -84,7 +85,7 @@ def _write_references(fh, jobs) -> None:
     record that does not depend on the link index of ``/jobs``."""
     if REFS in fh:
         del fh[REFS]
-    names = list(jobs)
+    names = [k for k in jobs if h5check.link_kind(jobs, k) == "hard"]   # never follow a link
     refs = np.empty(len(names), dtype=h5py.ref_dtype)
     for i, k in enumerate(names):
         refs[i] = jobs[k].ref
@@ -115,28 +116,37 @@ def accepted_hashes(root: dict) -> set | None:
 
 @dataclass
 class Snapshot:
-    """What a reader sees: root attrs, {key: record}, records only in the journal, corrupt
-    records of the HDF5 file, unchecked (pre-checksum) records, the journal scan."""
+    """What a reader sees: root attrs, {key: record} (the unchecked ones among them), records
+    only in the journal, corrupt records of the HDF5 file, foreign members of ``/jobs``
+    (name -> why), keys of the records without a checksum, the journal scan."""
 
     root: dict
     records: dict
     pending: int
     corrupt: dict
-    unchecked: int
+    unchecked_keys: set
     journal: object
+    foreign: dict
+
+    @property
+    def unchecked(self) -> int:
+        """How many records carry no checksum."""
+        return len(self.unchecked_keys)
 
 
 def read_snapshot(path: str, curves: bool = True) -> Snapshot:
     """Journal + HDF5 file, as a reader sees them while a campaign runs. The journal bytes are
-    read first so that a checkpoint that happens in between cannot hide a record."""
+    read first so that a checkpoint that happens in between cannot hide a record. Journal
+    frames of another campaign, or whose key is no job of the file's grids, are left out."""
     jdata = _journal.read_bytes(_journal.journal_path(path))
     got = read_h5_checked(path, curves)
     warn_corrupt(path, got)
-    scan = _journal.scan(jdata, accepted_hashes(got.root))
+    scan = _journal.scan(jdata, accepted_hashes(got.root), got.index.belongs)
     msg = scan.message(_journal.journal_path(path))
     if msg:
         log.warning("%s", msg)
     recs = got.records
+    unchecked = set(got.unchecked_keys)
     pending = 0
     for _, _, r in scan.records:
         r = dict(r)
@@ -146,8 +156,9 @@ def read_snapshot(path: str, curves: bool = True) -> Snapshot:
                 r.pop("loading", None)
                 r.pop("unloading", None)
             recs[r["key"]] = r
+            unchecked.discard(r["key"])
             pending += 1
-    return Snapshot(got.root, recs, pending, got.corrupt, got.unchecked, scan)
+    return Snapshot(got.root, recs, pending, got.corrupt, unchecked, scan, got.foreign)
 
 
 def read_records(path: str, curves: bool = True) -> tuple[dict, dict, int]:
@@ -156,8 +167,10 @@ def read_records(path: str, curves: bool = True) -> tuple[dict, dict, int]:
     return s.root, s.records, s.pending
 
 
-def write_record(jobs, rec: dict) -> None:
-    """Write one record (sealed with its checksum) as ``jobs/<key>``, replacing an older one."""
+def write_record(jobs, rec: dict, sign: bool = True) -> None:
+    """Write one record as ``jobs/<key>``, replacing an older one: sealed with its checksum
+    when ``sign`` (a record this code computed or verified), else as it is (an unchecked
+    record copied by ``merge``/``salvage`` stays unchecked: nothing here vouches for it)."""
     key = rec["key"]
     if key in jobs:
         del jobs[key]
@@ -167,7 +180,10 @@ def write_record(jobs, rec: dict) -> None:
         stored[branch] = None if c is None else {
             k: np.asarray(c[k]) for k in CURVE_KEYS + OPTIONAL_CURVE_KEYS
             if k in CURVE_KEYS or c.get(k) is not None}
-    stored = integrity.seal(stored)
+    if sign:
+        stored = integrity.seal(stored)
+    elif "checksum" in rec:
+        stored["checksum"] = rec["checksum"]
     g = jobs.create_group(key)
     for k, v in stored.items():
         if k not in BRANCHES:
@@ -190,9 +206,10 @@ def clean_temporaries(path: str) -> None:
             pass
 
 
-def checkpoint(path: str, root_attrs: dict, records, drop=()) -> None:
+def checkpoint(path: str, root_attrs: dict, records, drop=(), unsigned=()) -> None:
     """Publish ``records`` into ``path`` atomically, leaving out the job groups ``drop``
-    (corrupt ones: never republished).
+    (corrupt ones: never republished); the records whose key is in ``unsigned`` are written
+    without a new checksum (see :func:`write_record`).
 
     The new file is built in memory (libhdf5 never writes to disk, so a full disk cannot crash
     it), then written to a temporary file beside ``path`` after a free-space check, ``fsync``-ed
@@ -217,7 +234,7 @@ def checkpoint(path: str, root_attrs: dict, records, drop=()) -> None:
                 if key in jobs:
                     del jobs[key]
             for rec in records:
-                write_record(jobs, rec)
+                write_record(jobs, rec, sign=rec["key"] not in unsigned)
             _write_references(fh, jobs)
             for k, v in root_attrs.items():
                 fh.attrs[k] = v
@@ -252,11 +269,12 @@ def root_attrs_for(spec, extended_from=None) -> dict:
     }
 
 
-def write_merged(path: str, root_attrs: dict, records) -> None:
-    """Write a new file (atomically) holding ``records`` (used by ``merge``)."""
+def write_merged(path: str, root_attrs: dict, records, unsigned=()) -> None:
+    """Write a new file (atomically) holding ``records`` (used by ``merge`` and ``salvage``);
+    the records of ``unsigned`` keep having no checksum."""
     if os.path.exists(path):
         raise StoreError(f"{path} exists; choose a new output name")
-    checkpoint(path, root_attrs, records)
+    checkpoint(path, root_attrs, records, unsigned=unsigned)
 
 
 __all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",

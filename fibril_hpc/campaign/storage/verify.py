@@ -3,14 +3,16 @@
 
 ``verify`` reads every record of the HDF5 file and of its journal, checks each against its
 checksum (see :mod:`.integrity`) and says what is wrong: corrupt or unreadable records (by key),
-records written before checksums existed (*unchecked*), damaged or foreign journal frames, or an
-HDF5 structure that cannot be read at all.
+records without a checksum (*unchecked*), members of ``/jobs`` that live elsewhere or are no job
+of the file's grids (*foreign*), damaged or foreign journal frames, or an HDF5 structure that
+cannot be read at all. Anything but verified records is a finding (exit status 1).
 
 ``salvage`` copies every readable record that verifies (and the journal's intact records) into
 a new file with the same root attributes, so that the campaign resumes from it (the grid and
 its ``campaign_hash`` are kept); corrupt and unreadable records are left out and get recomputed
-by the next run. Unchecked records are copied only with ``keep_unchecked`` (nothing vouches for
-them, and a damaged file may hold zeros that read as numbers).
+by the next run. Foreign members are never copied. Unchecked records are copied only with
+``keep_unchecked`` (nothing vouches for them, and a damaged file may hold zeros that read as
+numbers), and then without a checksum: they stay unchecked in the new file.
 """
 
 from __future__ import annotations
@@ -31,24 +33,32 @@ class Verdict:
     ok: int = 0
     unchecked: int = 0
     corrupt: dict = field(default_factory=dict)        # key -> why
+    foreign: dict = field(default_factory=dict)        # name -> why
     in_journal: int = 0
     journal_problem: str = ""
     damaged: str = ""                                   # the HDF5 structure cannot be read
 
     @property
     def clean(self) -> bool:
-        """Whether nothing is damaged (unchecked records are not damage)."""
-        return not (self.corrupt or self.journal_problem or self.damaged)
+        """Whether every record is vouched for: nothing damaged, unchecked or foreign."""
+        return not (self.corrupt or self.foreign or self.unchecked or self.journal_problem
+                    or self.damaged)
 
     def lines(self) -> list:
         """The report, one line per finding."""
         if self.damaged:
             return [self.damaged]
         out = [f"{self.path}: {self.ok} record(s) verified, {len(self.corrupt)} corrupt, "
-               f"{self.unchecked} unchecked (written before checksums), {self.in_journal} in "
-               "the journal"]
+               f"{self.unchecked} unchecked (no checksum), {len(self.foreign)} foreign, "
+               f"{self.in_journal} in the journal"]
         for k, why in sorted(self.corrupt.items()):
             out.append(f"  corrupt {k}: {why} (left out by every reader; resume recomputes it)")
+        for k, why in sorted(self.foreign.items()):
+            out.append(f"  foreign {k}: {why} (never counted, published or copied)")
+        if self.unchecked:
+            out.append(f"  {self.unchecked} unchecked record(s): no checksum vouches for them "
+                       "(written before checksums, or stripped of theirs); left out of reports "
+                       "and exports unless --include-unchecked, never given a checksum")
         if self.journal_problem:
             out.append("  " + self.journal_problem)
         if self.clean:
@@ -65,10 +75,12 @@ def verify_file(path: str) -> Verdict:
         v.damaged = str(exc)
         return v
     v.corrupt = dict(got.corrupt)
+    v.foreign = dict(got.foreign)
     v.unchecked = got.unchecked
     v.ok = len(got.records) - got.unchecked
     jpath = _journal.journal_path(path)
-    scan = _journal.scan(_journal.read_bytes(jpath), store.accepted_hashes(got.root))
+    scan = _journal.scan(_journal.read_bytes(jpath), store.accepted_hashes(got.root),
+                         got.index.belongs)
     v.in_journal = len(scan.records)
     v.journal_problem = scan.message(jpath)
     return v
@@ -87,25 +99,28 @@ def salvage_file(path: str, output: str, keep_unchecked: bool = False) -> dict:
     recs = {}
     left_unchecked = 0
     for k, r in got.records.items():
-        if "checksum" not in r and not keep_unchecked:
+        if k in got.unchecked_keys and not keep_unchecked:
             left_unchecked += 1
             continue
         recs[k] = r
     scan = _journal.scan(_journal.read_bytes(_journal.journal_path(path)),
-                         store.accepted_hashes(root))
+                         store.accepted_hashes(root), got.index.belongs)
     from_journal = 0
+    journal_keys = set()
     for _, _, r in scan.records:
         r = dict(r)
         r.pop("type", None)
         if store.newer(r, recs.get(r["key"])):
             recs[r["key"]] = r
+            journal_keys.add(r["key"])
             from_journal += 1
     root.pop("created", None)
     root.pop("updated", None)
     root.setdefault("program", store.PROGRAM)
     root["salvaged_from"] = os.path.abspath(path)
-    store.write_merged(output, root, list(recs.values()))
-    return {"copied": len(recs), "corrupt": len(got.corrupt),
+    unsigned = {k for k in got.unchecked_keys if k in recs} - journal_keys
+    store.write_merged(output, root, list(recs.values()), unsigned=unsigned)
+    return {"copied": len(recs), "corrupt": len(got.corrupt), "foreign": len(got.foreign),
             "unchecked_left_out": left_unchecked, "from_journal": from_journal}
 
 

@@ -17,8 +17,26 @@ from ...errors import FULL_ERRNOS, ConfigError, DiskFull, StoreError
 from ...io.files import check_writable
 from . import journal as _journal
 from . import store
+from .record import layout_problem
 
 log = logging.getLogger(__name__)
+
+def _check_single_name(path: str) -> None:
+    """Refuse a campaign file that has other names (hard links): the lock beside one name
+    would not stop a writer through another, and a checkpoint (a new file renamed into place)
+    would silently split the names into two diverging files."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        return
+    except OSError as exc:
+        raise ConfigError("output", path, f"a readable file ({exc.strerror})") from None
+    if st.st_nlink > 1:
+        raise ConfigError("output", path,
+                          f"a file with one name (it has {st.st_nlink} hard links, device "
+                          f"{st.st_dev} inode {st.st_ino}: another writer could reach it "
+                          "under another name); copy it to a new name, or remove the other links")
+
 
 class CampaignWriter:
     """The only writer of a campaign file: lock, identity check, journal replay, checkpoints.
@@ -39,6 +57,7 @@ class CampaignWriter:
         self.path = os.path.realpath(spec.output)
         self.checkpoint_s = checkpoint_s
         check_writable(self.path, "output")
+        _check_single_name(self.path)
         extended_from = self._check_identity(extend)   # before anything is written
         self._lock_fd = os.open(self.path + ".lock", os.O_RDWR | os.O_CREAT, 0o644)
         try:
@@ -70,9 +89,15 @@ class CampaignWriter:
             accept.add(spec.campaign_hash)
         elif not extend:
             accept = {spec.campaign_hash}
+        index = got.index
+        index.add_spec(spec)               # frames whose key is no job of a grid: foreign
+        belongs = index.belongs
+        if extend and not got.root:        # a journal of another grid kept by --extend
+            def belongs(rec):
+                return not layout_problem(rec)
         jpath = _journal.journal_path(self.path)
         try:
-            self.journal = _journal.JournalWriter(jpath, accept)
+            self.journal = _journal.JournalWriter(jpath, accept, belongs)
         except OSError as exc:            # e.g. no room to quarantine a damaged stretch
             if exc.errno in FULL_ERRNOS:
                 raise DiskFull(jpath, "opening the journal", exc.strerror) from None
@@ -83,7 +108,10 @@ class CampaignWriter:
                 self._remember(r)
         self.journal.replayed = None
         self._last_ckpt = time.monotonic()
-        self.checkpoint(force=True)        # drops the corrupt records (or fails: one line)
+        # publishes the replayed journal and drops the corrupt records (or fails: one line);
+        # a finished file with nothing to add is left untouched (bitwise)
+        if self._unpublished or self.corrupt or not os.path.exists(self.path):
+            self.checkpoint(force=True)
         if corrupt:
             log.warning("%s: %d corrupt record(s) (%s%s) will be recomputed; they were not "
                         "republished", self.path, len(corrupt), ", ".join(corrupt[:3]),

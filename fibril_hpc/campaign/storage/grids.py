@@ -1,0 +1,130 @@
+"""Which job keys belong to a campaign file: :class:`GridIndex` (no h5py, no MPI).
+
+A record is counted or published only when its key is a job of a grid the file was written
+for: the grid of ``campaign_yaml``, the earlier grids of ``extended_from`` and, in a merged file,
+the grids of ``merged_from``. Every grid is rebuilt from its stored YAML (the same validation as
+``fibril-campaign run``). With ``F_P: auto`` a key belongs when its (k~, sigma~, seed) is a path of
+the grid and the key is that path's job at the record's preload. A grid that cannot be rebuilt
+(e.g. a measured height file that is no longer there) falls back to the record itself: its key
+must be the key of its own stored scene (``scene_yaml``). Anything else is *foreign*.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import logging
+
+import yaml
+
+from ...inputs.scene import scene_from_dict
+from ..plan.spec import job_key, spec_from_dict
+from .record import layout_problem
+
+log = logging.getLogger(__name__)
+
+
+@functools.lru_cache(maxsize=8)
+def _grid(campaign_yaml: str):
+    """(frozenset of job keys, auto spec or None) of one stored grid; None when it cannot be
+    rebuilt. Cached: the same file is read by several commands of one process."""
+    try:
+        data = yaml.safe_load(campaign_yaml)
+        if not isinstance(data, dict):
+            return None
+        data = dict(data, output="grid-index.h5")
+        spec = spec_from_dict(data)
+    except Exception:  # noqa: BLE001 - not a grid this version can rebuild
+        return None
+    if spec.auto is not None:
+        return frozenset(), spec
+    return frozenset(j.key for j in spec.jobs), None
+
+
+def stored_grids(root: dict) -> list:
+    """The YAML texts of every grid named by a file's root attributes."""
+    out = [root.get("campaign_yaml")]
+    for attr in ("extended_from", "merged_from"):
+        try:
+            items = json.loads(root.get(attr) or "[]")
+        except (ValueError, TypeError):
+            continue
+        if isinstance(items, list):
+            out += [i.get("campaign_yaml") for i in items if isinstance(i, dict)]
+    return [y for y in out if isinstance(y, str) and y]
+
+
+class GridIndex:
+    """Whether a record's key belongs to one of the grids of a file (see the module doc)."""
+
+    def __init__(self, yamls=(), specs=()):
+        self.keys: set = set()
+        self.auto: list = []
+        self.unknown = 0                 # grids that could not be rebuilt
+        self._seen: dict = {}
+        for y in yamls:
+            g = _grid(y)
+            if g is None:
+                self.unknown += 1
+                continue
+            self.keys |= g[0]
+            if g[1] is not None:
+                self.auto.append(g[1])
+        for spec in specs:
+            self.add_spec(spec)
+
+    @classmethod
+    def of_root(cls, root: dict) -> GridIndex:
+        """The index of a file with root attributes ``root``."""
+        return cls(stored_grids(root))
+
+    def add_spec(self, spec) -> None:
+        """Add the grid of a campaign spec (the writer's own)."""
+        if spec.auto is None:
+            self.keys |= {j.key for j in spec.jobs}
+        else:
+            self.auto.append(spec)
+        self._seen.clear()
+
+    @property
+    def empty(self) -> bool:
+        """Whether no grid is known at all (then nothing belongs)."""
+        return not (self.keys or self.auto or self.unknown)
+
+    def belongs(self, rec: dict) -> bool:
+        """Whether the record ``rec`` has the layout of a job record and is a job of one of
+        the grids."""
+        key = rec.get("key")
+        if not isinstance(key, str) or layout_problem(rec):
+            return False
+        if key in self.keys:
+            return True
+        got = self._seen.get((key, rec.get("record_id")))
+        if got is None:
+            got = self._auto_job(rec) or (self.unknown > 0 and _own_key(rec))
+            self._seen[(key, rec.get("record_id"))] = got
+        return got
+
+    def _auto_job(self, rec: dict) -> bool:
+        if not self.auto or rec.get("preload_kind") != "F_P":
+            return False
+        path = (rec.get("k_tilde"), rec.get("sigma_tilde"), rec.get("seed"))
+        for spec in self.auto:
+            if path in spec.paths():
+                try:
+                    if spec.auto_task(path, [rec.get("preload")]).jobs[0].key == rec["key"]:
+                        return True
+                except Exception:  # noqa: BLE001 - a preload the grid cannot hold
+                    continue
+        return False
+
+
+def _own_key(rec: dict) -> bool:
+    """Whether a record's key is the key of its own stored scene."""
+    try:
+        return job_key(scene_from_dict(yaml.safe_load(rec.get("scene_yaml") or ""))) == rec["key"]
+    except Exception:  # noqa: BLE001 - a scene this version cannot read
+        return False
+
+
+__all__ = ["GridIndex", "stored_grids"]
