@@ -10,6 +10,8 @@ A grid YAML is a mapping::
     sigma_tilde: [0.1, 0.5]     # number or list
     F_P: [0.5, 1, 2, 4]         # or d_tilde: [...]; number or list; or auto (see .auto)
     seeds: 10                   # a count (seeds 0..9) or a list of seeds
+    # with scene.physical (SI units, docs/units.md), k: [N/m, ...] and sigma: [m, ...] may
+    # stand for k_tilde and sigma_tilde; the jobs are keyed by the normalised values
     group_preloads: true        # jobs sharing (k_tilde, sigma_tilde, seed) share one loading path
     sweep:                      # optional: lab-scene fields swept like the others (lists)
       k_machine: [.inf, 1, 0.1]
@@ -34,7 +36,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import os
 from dataclasses import dataclass, field, fields
 
@@ -45,13 +46,14 @@ from ...inputs.config import read_yaml
 from ...inputs.heights import is_file as is_height_file
 from ...inputs.heights import read_file as read_height_file
 from ...inputs.limits import check_job_count
-from ...inputs.ranges import range_of
+from ...inputs.physical import grid_values
+from ...inputs.ranges import as_float, range_of
 from ...inputs.scene import Scene, SolverOptions, scene_from_dict
 from .auto import parse, settings_hash
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
-            "group_preloads", "description", "sweep")
+            "group_preloads", "description", "sweep", "k", "sigma")
 #: scene fields a grid may sweep under ``sweep:`` (the lab fields of :class:`Scene`)
 SWEEPABLE = tuple(f.name for f in fields(Scene) if f.metadata.get("extra") and f.metadata["key"])
 #: scene fields that never enter a job key (provenance only, e.g. a height file's name)
@@ -219,11 +221,8 @@ def _values(name, v):
     for item in items:
         if isinstance(item, bool) or not isinstance(item, (int, float, str)):
             raise ConfigError(name, item, allowed)
-        try:
-            x = float(item)
-        except ValueError:
-            raise ConfigError(name, item, allowed) from None
-        if math.isnan(x) or not rng.contains(x):
+        x = as_float(name, item, allowed)       # "inf", never a number in quotes
+        if not rng.contains(x):
             raise ConfigError(name, item, allowed)
         out.append(x)
     if len(set(out)) != len(out):
@@ -305,6 +304,8 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
             scene_map[key] = os.path.join(base_dir, os.path.expanduser(scene_map[key]))
     base = scene_from_dict(scene_map, where="scene.")
     sweep = _sweep(data.get("sweep"))
+    data = {**{k: v for k, v in data.items() if k not in ("k", "sigma")},   # SI lists, converted
+            **grid_values(data, scene_map.get("physical"), base)}
     for name in ("k_tilde", "sigma_tilde"):
         if name not in data:
             raise ConfigError(name, None, "a number or a list of numbers (required)")
