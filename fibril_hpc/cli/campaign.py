@@ -66,11 +66,15 @@ def _parser() -> Parser:
                          "plateau), the default) or min (min(c F~_P, plateau)); README, 'Report'")
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
                     help="bootstrap resamples over seeds for the intervals (default 400)")
-    e = sub.add_parser("export", help="one row per job: CSV and/or Parquet")
-    e.add_argument("file")
+    e = sub.add_parser("export", help="one row per job (CSV, Parquet) or the whole campaign "
+                       "with its curves (netCDF)")
+    e.add_argument("file", help="campaign HDF5 file")
     e.add_argument("--csv", metavar="OUT.csv", help="write a CSV file")
     e.add_argument("--parquet", metavar="OUT.parquet",
                    help="write a Parquet file (needs pandas and pyarrow: the 'report' extra)")
+    e.add_argument("--netcdf", metavar="OUT.nc",
+                   help="write a netCDF-4 file over (k_tilde, sigma_tilde, preload, seed) with "
+                        "the curves (needs xarray and h5netcdf: the 'netcdf' extra)")
     m = sub.add_parser("merge", help="merge campaign files into a new one")
     m.add_argument("files", nargs="+")
     m.add_argument("-o", "--output", required=True, metavar="ALL.h5")
@@ -223,24 +227,33 @@ def cmd_status(args) -> int:
 # ------------------------------------------------------------------------------------ export
 def cmd_export(args) -> int:
     """Write one row per job as CSV and/or Parquet."""
-    from ..campaign.analysis.export import export_csv, export_parquet, parquet_available
+    from ..campaign.analysis import export as ex
 
     _existing(args.file, "file")
-    if not (args.csv or args.parquet):
-        raise ConfigError("export", "no output given", "--csv OUT.csv and/or --parquet OUT.parquet")
-    for opt, path in (("--csv", args.csv), ("--parquet", args.parquet)):
+    if not (args.csv or args.parquet or args.netcdf):
+        raise ConfigError("export", "no output given", "--csv OUT.csv, --parquet OUT.parquet "
+                          "and/or --netcdf OUT.nc")
+    for opt, path in (("--csv", args.csv), ("--parquet", args.parquet),
+                      ("--netcdf", args.netcdf)):
         if path:
             check_writable(path, opt)
-    if args.parquet and not parquet_available():
+    if args.parquet and not ex.parquet_available():
         raise ConfigError("--parquet", args.parquet,
                           "a Parquet output with pandas and pyarrow installed "
                           "(pip install 'fibril-hpc[report]'), or --csv")
+    if args.netcdf and not ex.netcdf_available():
+        raise ConfigError("--netcdf", args.netcdf, "a netCDF output with xarray and h5netcdf "
+                          "installed (pip install 'fibril-hpc[netcdf]'), or --csv")
+    export_csv, export_parquet = ex.export_csv, ex.export_parquet
     if args.csv:
         n = export_csv(args.file, args.csv)
         print(f"{args.csv}: {n} jobs")
     if args.parquet:
         n = export_parquet(args.file, args.parquet)
         print(f"{args.parquet}: {n} jobs")
+    if args.netcdf:
+        n = ex.export_netcdf(args.file, args.netcdf)
+        print(f"{args.netcdf}: {n} jobs")
     return EXIT_OK
 
 

@@ -90,6 +90,7 @@ def _dataset(group, name, data, dims=(), **kw):
             scale.attrs["long_name"], scale.attrs["units"] = CF[dim]
             scale.make_scale(dim)
         ds.dims[axis].attach_scale(group[dim])
+        ds.dims[axis].label = dim
     return ds
 
 
