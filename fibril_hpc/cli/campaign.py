@@ -54,7 +54,12 @@ def _parser() -> Parser:
                    help="run even if one job's memory estimate exceeds the memory available")
     r.add_argument("--serial", action="store_true",
                    help="never initialise MPI, even under a launcher (one rank only)")
-    r.add_argument("-v", "--verbose", action="store_true")
+    r.add_argument("--shard", metavar="I/N",
+                   help="run only shard I of N (0 <= I < N: whole loading paths, a stable "
+                        "rule over their keys) into OUTPUT.shard-I-of-N.h5, for `merge` to "
+                        "join; default under `sbatch --array`: from SLURM_ARRAY_TASK_ID and "
+                        "SLURM_ARRAY_TASK_COUNT")
+    r.add_argument("-v", "--verbose", action="store_true", help="log what happens (INFO)")
     s = sub.add_parser("status", help="progress of a campaign file (safe while it is written)")
     s.add_argument("file")
     s.add_argument("--json", action="store_true")
@@ -132,6 +137,7 @@ def _existing(path, field):
 # ------------------------------------------------------------------------------------ run
 def cmd_run(args) -> int:
     """Run (or resume) a campaign, or print its plan with ``--dry-run``."""
+    from ..campaign.plan.shard import parse_shard, shard_spec
     from ..campaign.plan.spec import load_spec
     from ..campaign.run.launcher import connect
 
@@ -141,7 +147,15 @@ def cmd_run(args) -> int:
             raise ConfigError("--" + name.replace("_", "-"), v, "a number of seconds in [0, 1e7)")
     if args.fft_threads is not None and not 1 <= args.fft_threads <= 1024:
         raise ConfigError("--fft-threads", args.fft_threads, "an integer in [1, 1024]")
+    shard = parse_shard(args.shard)
     spec = load_spec(args.grid, args.output)
+    if shard is not None and shard[1] > 1:
+        spec = shard_spec(spec, *shard, output=spec.output if args.output else None)
+        if launcher_rank() == 0:
+            print(f"fibril-campaign: shard {shard[0]}/{shard[1]}: "
+                  + (f"{len(spec.jobs)} jobs" if spec.auto is None else
+                     f"{len(spec.paths())} F_P: auto paths") + f" into {spec.output}",
+                  file=sys.stderr)
     if args.fft_threads is not None:
         spec.base = spec.base.replace(solver=spec.base.solver.replace(
             fft_threads=args.fft_threads))

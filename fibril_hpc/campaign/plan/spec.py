@@ -113,6 +113,9 @@ class CampaignSpec:
     #: ``F_P: auto`` settings (:class:`.auto.AutoPreloads`), None for a fixed preload list
     auto: object = None
     sweep: dict = field(default_factory=dict)      # field -> tuple of values (``sweep:``)
+    #: a shard's (:mod:`.shard`): the hash of the whole grid, and the loading paths it keeps
+    grid_hash: str = ""
+    only_paths: frozenset | None = None
 
     # ------------------------------------------------------------------ identity
     def resolved(self) -> dict:
@@ -137,6 +140,8 @@ class CampaignSpec:
     def campaign_hash(self) -> str:
         """SHA-256 of the sorted job keys; with ``F_P: auto`` (jobs chosen while it runs) of the
         sorted path keys ``auto:<settings hash>:<key of the path's scene at F_P = 1>``."""
+        if self.grid_hash:
+            return self.grid_hash
         if self.auto is None:
             return campaign_hash_of(j.key for j in self.jobs)
 
@@ -144,9 +149,11 @@ class CampaignSpec:
         return campaign_hash_of(f"auto:{h}:{self.path_key(p)}" for p in self.paths())
 
     # ------------------------------------------------------------------ F_P: auto
-    def paths(self) -> list:
-        """The loading paths (k_tilde, sigma_tilde, seed), in grid order."""
-        return [(k, s, seed) for k in self.k_tilde for s in self.sigma_tilde for seed in self.seeds]
+    def paths(self, whole: bool = False) -> list:
+        """The loading paths (k_tilde, sigma_tilde, seed), in grid order (a shard's own, unless
+        ``whole``)."""
+        return [(k, s, seed) for k in self.k_tilde for s in self.sigma_tilde for seed in self.seeds
+                if whole or self.only_paths is None or (k, s, seed) in self.only_paths]
 
     def path_key(self, path) -> str:
         """Key of the path's scene at F_P = 1 (its identity in an auto grid's campaign hash)."""
@@ -156,7 +163,7 @@ class CampaignSpec:
     def auto_task(self, path, preloads) -> Task:
         """One round of an ``F_P: auto`` path: a task with one ordinary job per preload."""
         k, s, seed = path
-        base_index = self.paths().index(path) * 1000
+        base_index = self.paths(whole=True).index(path) * 1000
         jobs = []
         for i, p in enumerate(sorted(preloads)):
             job = Job("", base_index + i, k, s, "F_P", p, seed)
