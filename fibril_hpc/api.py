@@ -24,7 +24,7 @@ from .io.results import (
     SimulationResult,
     software_versions,
 )
-from .model import Model, OperatorCache, build_scene_model
+from .model import Model, OperatorCache, build_scene_model, scene_lattice
 from .path.criterion import footprint_factor
 from .path.loading import PathDriver
 from .path.machine import MachineDriver, machine_displacement, make_driver
@@ -208,7 +208,8 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
         discretisation=discretisation_info(model),
         xi=None if grid is None else grid.xi.copy(),
         zeta_tilde=None if grid is None else grid.zeta / sc.d_c,
-        versions=software_versions(), definitions=sc.definitions())
+        versions=software_versions(), definitions=sc.definitions(),
+        units={} if scene.physical is None else scene.physical.si(scene_lattice(scene)))
     res.stats = {
         "wall_s": time.perf_counter() - t0,
         "cg_iterations": model.solver.iterations - it0,

@@ -107,7 +107,7 @@ def test_frame_and_export_csv_parquet(tmp_path):
     pytest.importorskip("pyarrow")
     path = _synthetic(tmp_path, seeds=2)
     c = load_campaign(path, curves=False)
-    df = c.frame()
+    df = c.to_dataframe()
     assert len(df) == len(c.jobs) == 1 * len(PLATEAU) * 2 * len(PRELOADS)
     assert df["F_A"].dtype == float and df["seed"].dtype == "int64"
     assert list(df["key"]) == [j["key"] for j in c.jobs]

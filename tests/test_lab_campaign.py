@@ -64,7 +64,7 @@ def test_machine_results_are_recorded_only_for_a_compliant_machine(tmp_path):
     by = {r["key"]: r for r in rows}
     assert by[rigid["key"]]["k_machine"] == "inf" and by[rigid["key"]]["jumps"] == ""
     assert float(by[soft["key"]]["F_jump"]) == soft["F_jump"]
-    df = c.frame()
+    df = c.to_dataframe()
     assert str(df["jumps"].dtype) == "Int64"
     assert df.set_index("key")["jumps"].isna()[rigid["key"]]
 
@@ -73,7 +73,7 @@ def test_old_files_open_with_the_machine_fields_missing(tmp_path):
     c = load_campaign(os.path.join(DATA, "campaign_v1.h5"), include_unchecked=True)
     for j in c.jobs:
         assert j["k_machine"] == math.inf and j.get("jumps") is None
-    df = c.frame()
+    df = c.to_dataframe()
     assert list(df.columns) == list(COLUMNS)
     assert df["jumps"].isna().all() and df["F_jump"].isna().all()
     # a record of today's main for a compliant machine names its machine only in its scene

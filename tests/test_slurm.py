@@ -1,6 +1,8 @@
 """A real, throwaway single-node Slurm (Debian slurmctld/slurmd/munge): submit a campaign with
 slurm/campaign.sbatch, interrupt it with a signal (what Slurm sends before a time limit), and
-check that the job it resubmits completes the file. Every daemon is stopped by its PID."""
+check that the job, requeued with every option it was given, completes the file; run a grid as a
+job array of shards (slurm/array.sbatch) and merge them into a serial run's records. Every
+daemon is stopped by its PID."""
 
 import os
 import shutil
@@ -11,7 +13,7 @@ import tempfile
 import time
 
 import pytest
-from campaign_helpers import env, results_by_key, write_grid
+from campaign_helpers import env, results_by_key, same_numbers, write_grid
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BINARIES = ("slurmctld", "slurmd", "sbatch", "squeue", "scancel", "scontrol", "srun", "munged")
@@ -134,19 +136,33 @@ def _squeue(e):
     return r.stdout.split("\n") if r.stdout.strip() else []
 
 
-def test_sbatch_campaign_interrupted_then_resubmitted_completes(cluster, tmp_path):
+def _sbatch(e, cwd, *args):
+    r = subprocess.run([_which("sbatch"), "--parsable", *args], env=e, capture_output=True,
+                       text=True, timeout=30, cwd=cwd)
+    assert r.returncode == 0, r.stderr
+    return r.stdout.strip().split(";")[0]
+
+
+def _job_field(e, job, name):
+    r = subprocess.run([_which("scontrol"), "show", "job", job], env=e, capture_output=True,
+                       text=True, timeout=20)
+    for word in r.stdout.split():
+        if word.startswith(name + "="):
+            return word.split("=", 1)[1]
+    return None
+
+
+def test_sbatch_campaign_interrupted_then_requeued_completes_with_every_option(cluster, tmp_path):
     from fibril_hpc import load_campaign
 
     e = cluster["env"]
     os.chmod(tmp_path, 0o755)
     grid = write_grid(tmp_path, group_preloads=False, seeds=4)          # 32 jobs
     out = str(tmp_path / "tiny.h5")
-    r = subprocess.run([_which("sbatch"), "--parsable", "--ntasks=2", "--time=10",
-                        "--output", str(tmp_path / "slurm-%j.out"),
-                        os.path.join(ROOT, "slurm", "campaign.sbatch"), grid, "--no-progress"],
-                       env=e, capture_output=True, text=True, timeout=30, cwd=tmp_path)
-    assert r.returncode == 0, r.stderr
-    first = r.stdout.strip().split(";")[0]
+    # options campaign.sbatch never names: the requeued job must keep them
+    first = _sbatch(e, tmp_path, "--ntasks=2", "--time=10", "--job-name=keepname",
+                    "--comment=keep-this-comment", "--output", str(tmp_path / "slurm-%j.out"),
+                    os.path.join(ROOT, "slurm", "campaign.sbatch"), grid, "--no-progress")
 
     def some_records():
         try:
@@ -159,11 +175,37 @@ def test_sbatch_campaign_interrupted_then_resubmitted_completes(cluster, tmp_pat
     s = subprocess.run([_which("scancel"), "--signal=USR1", first], env=e, capture_output=True,
                        text=True, timeout=30)
     assert s.returncode == 0, s.stderr
-    _wait(lambda: not _squeue(e), 300, "the chain of jobs to finish")
-    logs = sorted(tmp_path.glob("*.out"))   # resubmissions log to %x-%j.out
+    _wait(lambda: _job_field(e, first, "Restarts") == "1", 120, "the requeue")
+    assert _job_field(e, first, "JobName") == "keepname"
+    assert _job_field(e, first, "Comment") == "keep-this-comment"
+    assert _job_field(e, first, "TimeLimit") == "00:10:00"
+    _wait(lambda: not _squeue(e), 400, "the requeued job to finish")
+    logs = sorted(tmp_path.glob("*.out"))
     text = "\n".join(p.read_text() for p in logs)
-    assert len(logs) == 2, text                      # the interrupted job and its resubmission
-    assert "exited with 75" in text and "resubmitting" in text and "exited with 0" in text, text
+    assert len(logs) == 1, text                      # one job, requeued, appending to its log
+    assert "exited with 75" in text and "requeueing" in text and "exited with 0" in text, text
     final = results_by_key(out)
     assert len(final) == 32 and {x["status"] for x in final.values()} == {"done"}
     assert {x["rank"] for x in final.values()} == {1}        # computed by the MPI worker
+
+
+def test_job_array_shards_merge_equal_to_a_serial_run(cluster, tmp_path):
+    from fibril_hpc.cli.campaign import main
+
+    e = cluster["env"]
+    os.chmod(tmp_path, 0o755)
+    grid = write_grid(tmp_path, seeds=3)                     # 24 jobs in 12 loading paths
+    array = _sbatch(e, tmp_path, "--array=1-3", "--time=10", "--output",
+                    str(tmp_path / "shard-%A_%a.out"),
+                    os.path.join(ROOT, "slurm", "array.sbatch"), grid, "--no-progress")
+    _wait(lambda: not _squeue(e), 300, "the array to finish")
+    text = "\n".join(p.read_text() for p in sorted(tmp_path.glob("shard-*.out")))
+    assert text.count("exited with 0") == 3, text
+    shards = sorted(str(p) for p in tmp_path.glob("tiny.shard-*-of-3.h5"))
+    assert len(shards) == 3, (array, text)
+    merged = str(tmp_path / "merged.h5")
+    assert main(["merge", *shards, "-o", merged]) == 0
+    serial = str(tmp_path / "serial.h5")
+    assert main([grid, "--output", serial, "--no-progress", "--serial"]) == 0
+    a, b = results_by_key(serial), results_by_key(merged)
+    assert len(a) == 24 and set(a) == set(b) and same_numbers(a, b) == []

@@ -57,7 +57,12 @@ def _parser() -> Parser:
                    help="run even if one job's memory estimate exceeds the memory available")
     r.add_argument("--serial", action="store_true",
                    help="never initialise MPI, even under a launcher (one rank only)")
-    r.add_argument("-v", "--verbose", action="store_true")
+    r.add_argument("--shard", metavar="I/N",
+                   help="run only shard I of N (0 <= I < N: whole loading paths, a stable "
+                        "rule over their keys) into OUTPUT.shard-I-of-N.h5, for `merge` to "
+                        "join; default under `sbatch --array`: from SLURM_ARRAY_TASK_ID and "
+                        "SLURM_ARRAY_TASK_COUNT")
+    r.add_argument("-v", "--verbose", action="store_true", help="log what happens (INFO)")
     s = sub.add_parser("status", help="progress of a campaign file (safe while it is written)")
     s.add_argument("file")
     s.add_argument("--json", action="store_true")
@@ -68,11 +73,15 @@ def _parser() -> Parser:
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
                     help="bootstrap resamples over seeds for the seed intervals (default 400)")
     rp.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
-    e = sub.add_parser("export", help="one row per job: CSV and/or Parquet")
-    e.add_argument("file")
+    e = sub.add_parser("export", help="one row per job (CSV, Parquet) or the whole campaign "
+                       "with its curves (netCDF)")
+    e.add_argument("file", help="campaign HDF5 file")
     e.add_argument("--csv", metavar="OUT.csv", help="write a CSV file")
     e.add_argument("--parquet", metavar="OUT.parquet",
                    help="write a Parquet file (needs pandas and pyarrow: the 'report' extra)")
+    e.add_argument("--netcdf", metavar="OUT.nc",
+                   help="write a netCDF-4 file over (k_tilde, sigma_tilde, preload, seed) with "
+                        "the curves (needs xarray and h5netcdf: the 'netcdf' extra)")
     e.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
     m = sub.add_parser("merge", help="merge campaign files into a new one")
     m.add_argument("files", nargs="+")
@@ -140,6 +149,7 @@ def _existing(path, field):
 # ------------------------------------------------------------------------------------ run
 def cmd_run(args) -> int:
     """Run (or resume) a campaign, or print its plan with ``--dry-run``."""
+    from ..campaign.plan.shard import parse_shard, shard_spec
     from ..campaign.plan.spec import load_spec
     from ..campaign.run.launcher import connect
 
@@ -149,7 +159,15 @@ def cmd_run(args) -> int:
             raise ConfigError("--" + name.replace("_", "-"), v, "a number of seconds in [0, 1e7)")
     if args.fft_threads is not None and not 1 <= args.fft_threads <= 1024:
         raise ConfigError("--fft-threads", args.fft_threads, "an integer in [1, 1024]")
+    shard = parse_shard(args.shard)
     spec = load_spec(args.grid, args.output)
+    if shard is not None and shard[1] > 1:
+        spec = shard_spec(spec, *shard, output=spec.output if args.output else None)
+        if launcher_rank() == 0:
+            print(f"fibril-campaign: shard {shard[0]}/{shard[1]}: "
+                  + (f"{len(spec.jobs)} jobs" if spec.auto is None else
+                     f"{len(spec.paths())} F_P: auto paths") + f" into {spec.output}",
+                  file=sys.stderr)
     if args.fft_threads is not None:
         spec.base = spec.base.replace(solver=spec.base.solver.replace(
             fft_threads=args.fft_threads))
@@ -242,24 +260,33 @@ def cmd_status(args) -> int:
 # ------------------------------------------------------------------------------------ export
 def cmd_export(args) -> int:
     """Write one row per job as CSV and/or Parquet."""
-    from ..campaign.analysis.export import export_csv, export_parquet, parquet_available
+    from ..campaign.analysis import export as ex
 
     _existing(args.file, "file")
-    if not (args.csv or args.parquet):
-        raise ConfigError("export", "no output given", "--csv OUT.csv and/or --parquet OUT.parquet")
-    for opt, path in (("--csv", args.csv), ("--parquet", args.parquet)):
+    if not (args.csv or args.parquet or args.netcdf):
+        raise ConfigError("export", "no output given", "--csv OUT.csv, --parquet OUT.parquet "
+                          "and/or --netcdf OUT.nc")
+    for opt, path in (("--csv", args.csv), ("--parquet", args.parquet),
+                      ("--netcdf", args.netcdf)):
         if path:
             check_writable(path, opt)
-    if args.parquet and not parquet_available():
+    if args.parquet and not ex.parquet_available():
         raise ConfigError("--parquet", args.parquet,
                           "a Parquet output with pandas and pyarrow installed "
                           "(pip install 'fibril-hpc[report]'), or --csv")
+    if args.netcdf and not ex.netcdf_available():
+        raise ConfigError("--netcdf", args.netcdf, "a netCDF output with xarray and h5netcdf "
+                          "installed (pip install 'fibril-hpc[netcdf]'), or --csv")
+    export_csv, export_parquet = ex.export_csv, ex.export_parquet
     if args.csv:
         n = export_csv(args.file, args.csv, include_unchecked=args.include_unchecked)
         print(f"{args.csv}: {n} jobs")
     if args.parquet:
         n = export_parquet(args.file, args.parquet, include_unchecked=args.include_unchecked)
         print(f"{args.parquet}: {n} jobs")
+    if args.netcdf:
+        n = ex.export_netcdf(args.file, args.netcdf, include_unchecked=args.include_unchecked)
+        print(f"{args.netcdf}: {n} jobs")
     return EXIT_OK
 
 

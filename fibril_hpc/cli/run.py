@@ -27,6 +27,10 @@ def _human(result) -> str:
     lines.append(f"fibril-run: {s.n_side}x{s.n_side} pillars, phi={s.phi:g} "
                  f"(discrete {d['phi_discrete']:.4f}), k~={s.k_tilde:g}, sigma~={s.sigma_tilde:g}, "
                  f"seed={s.seed}, adhesion={'yes' if s.adhesion else 'no'}")
+    if result.units:
+        u = result.units
+        lines.append(f"  units: F_c = {u['F_c']:.4g} N, d_c = {u['d_c']:.4g} m, k = k~ x "
+                     f"{u['k_unit']:.4g} N/m, L = {u['L']:.4g} m")
     lines.append(f"  grid {d['grid_side']}^2 (FFT {d['fft_size']}^2), "
                  f"{d.get('elements_per_diameter', float('nan')):.2f} elements per pillar diameter, "
                  f"{d['n_active']} pillar elements")
@@ -35,6 +39,11 @@ def _human(result) -> str:
             lines.append(f"  {r.preload_kind}={r.preload:g}: F~_P={r.F_P:.4f} at d~={r.d_tilde_max:.4f}, "
                          f"F~_A={r.F_A:.4f} at d~={r.d_tilde_at_F_A:.4f}, "
                          f"pillars in contact max {r.n_pillars_in_contact_max}")
+            if result.units:
+                u = result.units
+                lines.append(f"    in SI: F_P = {r.F_P * u['F_c']:.4g} N at d = "
+                             f"{r.d_tilde_max * u['d_c']:.4g} m, F_A = {r.F_A * u['F_c']:.4g} N "
+                             f"at d = {r.d_tilde_at_F_A * u['d_c']:.4g} m")
         else:
             lines.append(f"  {r.preload_kind}={r.preload:g}: FAILED: {r.message}")
     st = result.stats

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 
 import yaml
 
@@ -24,6 +25,32 @@ BUILTIN_SCENES = {
     "single-pillar": {"n_side": 1, "k_tilde": math.inf, "sigma_tilde": 0.0, "d_tilde": 1.0,
                       "elements_per_diameter": 16},
 }
+
+
+class _Loader(yaml.SafeLoader):
+    """PyYAML's safe loader, strict where a user would be surprised: a key given twice is an
+    error, and ``1e6`` is a number (YAML 1.2) rather than the text YAML 1.1 makes of it."""
+
+    def construct_mapping(self, node, deep=False):
+        """A mapping, refusing a key that appears twice."""
+        seen = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            if key in seen:
+                raise _Duplicate(key, key_node.start_mark.line + 1)
+            seen.add(key)
+        return super().construct_mapping(node, deep=deep)
+
+
+class _Duplicate(yaml.YAMLError):
+    def __init__(self, key, line):
+        super().__init__(key, line)
+        self.key, self.line = key, line
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"), list("-+0123456789"))
 
 
 #: most values a YAML document may expand to (aliases counted as often as they are used): a
@@ -58,15 +85,22 @@ def expanded_size(obj, limit: int = MAX_YAML_VALUES) -> int:
 
 
 def read_yaml(path: str, field: str = "scene") -> object:
-    """Parse a YAML file; any I/O or syntax problem, and a document that expands to more than
-    :data:`MAX_YAML_VALUES` values (an alias bomb), becomes a one-line ConfigError."""
+    """Parse a YAML file; any I/O or syntax problem, a key given twice, and a document that
+    expands to more than :data:`MAX_YAML_VALUES` values (an alias bomb), becomes a one-line
+    ConfigError."""
     if not os.path.isfile(path):
         raise ConfigError(field, path, "an existing YAML file")
+    if path.endswith((".h5", ".hdf5")):
+        raise ConfigError(field, path, "a YAML file (this is an HDF5 file: did you mean "
+                          f"`fibril-campaign status {path}`?)")
     try:
         with open(path, encoding="utf-8") as fh:
-            data = yaml.safe_load(fh)
+            data = yaml.load(fh, Loader=_Loader)  # noqa: S506 (a SafeLoader)
     except RecursionError:
         raise ConfigError(field, path, "YAML nested less deeply") from None
+    except _Duplicate as exc:
+        raise ConfigError(field, path, f"each key once (line {exc.line} repeats "
+                          f"{exc.key!r})") from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}" if mark is not None else ""

@@ -29,15 +29,17 @@ def _is_int(v) -> bool:
 
 
 def as_float(name: str, v, allowed: str) -> float:
-    """``v`` as a float (numbers and strings such as ``"inf"``; never bool or NaN)."""
+    """``v`` as a float (numbers, and the words ``inf``/``infinity``; never bool, NaN or a
+    number written as a quoted text such as ``"0.01"``, which is refused in one line)."""
     if isinstance(v, str):
         s = v.strip().lower()
         if s in ("inf", "+inf", "infinity", ".inf"):
             return math.inf
         try:
-            v = float(s)
+            float(s)
         except ValueError:
             raise ConfigError(name, v, allowed) from None
+        raise ConfigError(name, v, allowed + " (a number, not a quoted text)")
     if not isinstance(v, numbers.Real) or isinstance(v, bool):
         raise ConfigError(name, v, allowed)
     v = float(v)

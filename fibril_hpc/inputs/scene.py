@@ -17,6 +17,7 @@ from ..geometry import tips as _tips
 from ..geometry.grid import LATTICES, MAX_N_SIDE, n_side_of
 from ..solve.coarse import MAX_PILLARS
 from . import heights as _heights
+from . import physical as _physical
 from .limits import check_grid
 from .presets import DEFAULT_PRESET, PRESET_NAMES, preset_values
 from .ranges import Choice, Flag, Int, Real, check_fields
@@ -33,11 +34,10 @@ DIRECTION_SLACK = 100.0
 #: Largest filling ratio a square lattice of discs can hold (touching discs).
 PHI_MAX = math.pi / 4
 
-#: What a solver option decides (``SolverOptions`` field metadata ``kind``):
-#: ``accuracy`` options define the result (presets set them; they are part of job keys),
-#: ``backend`` options choose how it is computed (equal to rounding; part of job keys, since keys
-#: promise bitwise identity), ``resource`` options only cap or spend resources (left out of
-#: job keys).
+#: What a solver option decides (``SolverOptions`` field metadata ``kind``): ``accuracy``
+#: options define the result (presets set them), ``backend`` ones how it is computed (equal to
+#: rounding; in job keys too, as keys promise bitwise identity), ``resource`` ones only cap or
+#: spend resources (left out of job keys).
 OPTION_KINDS = ("accuracy", "backend", "resource")
 
 
@@ -91,29 +91,23 @@ class SolverOptions:
         Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
         simulation with that reason (campaigns use it to turn a runaway job into a failed record).
     preconditioner : str
-        ``"auto"`` (default: where all pillars share one footprint and there are at most 1024 of
-        them ``"moments"`` if the FFT is dear enough for it (``solve.factory.prefers_moments``: the
-        default and accurate 18 x 18 scenes, small brushes), else
-        ``"two_level"``; ``"block"`` for more pillars; else ``"diagonal"``), ``"block"`` (exact
-        per-pillar block Jacobi), ``"diagonal"`` (c0 I + alpha B B^T), ``"two_level"`` (block
-        Jacobi plus a coarse level of one pillar force per pillar in contact, for brushes of one
-        footprint and at most 1024 pillars: same answers to the CG tolerance, about half the CG
-        iterations; see :mod:`fibril_hpc.solve.coarse`) or ``"moments"`` (the same with three coarse
-        unknowns per pillar, its force and two tilts: fewer iterations again, more dense work
-        per iteration; :mod:`fibril_hpc.solve.moments`). A choice of how the result is computed: all
-        of them reach the same answer, and ``"auto"`` keeps its name in scene texts and job keys.
+        ``"auto"`` (default: for at most 1024 pillars of one footprint ``"moments"`` where the
+        FFT is dear enough (``solve.factory.prefers_moments``), else ``"two_level"``; ``"block"``
+        for more pillars; else ``"diagonal"``), ``"block"`` (exact per-pillar block Jacobi),
+        ``"diagonal"`` (c0 I + alpha B B^T), ``"two_level"`` (block Jacobi plus a coarse level
+        of one force per pillar in contact, :mod:`fibril_hpc.solve.coarse`) or ``"moments"``
+        (three coarse unknowns per pillar, force and tilts; :mod:`fibril_hpc.solve.moments`).
+        All reach the same answer; ``"auto"`` keeps its name in scene texts and job keys.
     detach_policy : str
         ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``
         (only the most supercritical element of each pillar per pass). Default ``"all"``.
     fft_backend : str
         ``"pyfftw"`` (default) or ``"numpy"`` (reference/comparison).
     fft_threads : int or None
-        Threads of the FFT and of BLAS; ``None`` (default) means one. The row-pruned pair is many
-        short batched 1-D transforms, where FFTW's threads cost more than they save on small
-        machines, and BLAS threads on the preconditioner's small products cost 1.4-2.2x the CPU
-        time for no gain in wall time (measurements: ``benchmarks/NOTES.md``), so more threads
-        are opt-in (e.g. ``fibril-campaign --fft-threads`` from Slurm's cpus-per-task). MPI
-        campaigns run one single-threaded job per rank. The numba kernels are serial.
+        Threads of the FFT and of BLAS; ``None`` (default) means one: more threads cost more
+        CPU time than they save on the row-pruned pair and the preconditioner's small products
+        (``benchmarks/NOTES.md``), so they are opt-in (e.g. ``fibril-campaign --fft-threads``).
+        MPI campaigns run one single-threaded job per rank. The numba kernels are serial.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
     cascade : str
@@ -280,6 +274,10 @@ class Scene:
         both lattices hold n_side rows of n_side pillars (:func:`~fibril_hpc.geometry.grid.n_side_of`).
         It is resolved to ``n_side`` at once and then reads ``None``, so a scene given by its
         count is the very scene (text, job key) given by its side.
+    physical : Units or None
+        The unit system of a scene given in physical units (``physical:`` in YAML, which may
+        also set k~, sigma~ and phi; :mod:`fibril_hpc.inputs.physical`, docs/units.md): outputs
+        then carry newtons and metres too. Not part of job keys.
     """
 
     n_side: int = _in(None, Int(1, MAX_N_SIDE))     # None: 18, or from n_pillars
@@ -307,6 +305,7 @@ class Scene:
     k_machine: float = _lab(math.inf, Real(0, lo_open=True,
                                            note=", or inf (displacement control)"))
     n_pillars: int | None = _lab(None, None, key=False)
+    physical: _physical.Units | None = _lab(None, _physical.UnitsRange(), key=False)
 
     def __post_init__(self):
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
@@ -412,7 +411,8 @@ class Scene:
         for f in dataclasses.fields(self):      # lab fields: only when not at their default
             if f.metadata.get("extra") and getattr(self, f.name) != f.default:
                 v = getattr(self, f.name)
-                out[f.name] = list(v) if isinstance(v, tuple) else v
+                out[f.name] = (list(v) if isinstance(v, tuple) else
+                               v.to_dict() if isinstance(v, _physical.Units) else v)
         return out
 
 
@@ -435,6 +435,14 @@ def scene_from_dict(data: dict, *, where: str = "") -> Scene:
     solver = kwargs.pop("solver", None)     # a mapping overrides the preset's knobs key by key
     if solver is not None and not isinstance(solver, (dict, SolverOptions)):
         raise ConfigError(where + "solver", solver, "a mapping of solver options")
+    if isinstance(kwargs.get("physical"), dict) and \
+            set(kwargs["physical"]) != {"E_star", "dgamma", "pitch"}:     # not a stored block
+        return _physical.scene_with_physical(kwargs.pop("physical"), kwargs,
+                                             lambda kw: _build(kw, solver, where), where=where)
+    return _build(kwargs, solver, where)
+
+
+def _build(kwargs: dict, solver, where: str) -> Scene:
     try:
         return Scene(**kwargs, solver=solver)
     except ConfigError as exc:

@@ -114,6 +114,9 @@ class SimulationResult:
     stats: dict = field(default_factory=dict)
     versions: dict = field(default_factory=dict)
     definitions: dict = field(default_factory=dict)
+    #: SI value of every unit (:meth:`fibril_hpc.inputs.physical.Units.si`) when the scene was
+    #: given in physical units, else empty
+    units: dict = field(default_factory=dict)
 
     @property
     def main(self) -> PreloadResult | None:
@@ -135,10 +138,26 @@ class SimulationResult:
         }
         out.update(self.stats)
         out["results"] = [r.summary() for r in self.results]
+        if self.units:
+            out.update(si_summary(out, self.units))
+            for r in out["results"]:
+                r.update(si_summary(r, self.units))
+            out["units"] = self.units
         out["discretisation"] = self.discretisation
         out["scene"] = self.scene.to_dict()
         out["versions"] = self.versions
         return json_safe(out)
+
+
+#: SI columns of a result in physical units: name -> (normalised name, unit scale, SI unit)
+SI_FIELDS = {"F_P_N": ("F_P", "F_c", "N"), "F_A_N": ("F_A", "F_c", "N"),
+             "d_max_m": ("d_tilde_max", "d_c", "m"), "d_at_F_A_m": ("d_tilde_at_F_A", "d_c", "m")}
+
+
+def si_summary(values: dict, units: dict) -> dict:
+    """The SI values (:data:`SI_FIELDS`) of a summary's normalised ``values``."""
+    return {name: float(values[src]) * units[scale]
+            for name, (src, scale, _) in SI_FIELDS.items() if src in values}
 
 
 def json_safe(obj):

@@ -3,17 +3,26 @@
 Layout of one result group (a file root for ``fibril-run --out``, or a job group in a campaign)::
 
     attrs: program, fibril_hpc_version, status, message, scene_yaml, versions (JSON),
-           definitions (JSON), discretisation (JSON), stats (JSON), created
+           definitions (JSON), discretisation (JSON), stats (JSON), created,
+           units (JSON; only for a scene given in physical units, docs/units.md)
+    units/{E_star, dgamma, pitch, diameter, L, A0, F_c, d_c, k_unit, phi_discrete}
+                 scalars with their SI unit (only for a scene in physical units)
     pillars/xi, pillars/zeta_tilde                      per pillar, row-major pillar order
     preloads/<i>/  attrs: preload_kind, preload, status, message, F_P, F_A, d_tilde_max,
                           d_tilde_at_F_A, n_pillars_in_contact_max, events
                           (+ jumps, F_jump with a compliant machine)
-        loading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact}
-                (+ d_machine_tilde with a compliant machine, k_machine < inf)
+        loading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact}, point
+                (+ d_machine_tilde with a compliant machine, k_machine < inf;
+                 + d [m] and F [N] for a scene in physical units)
         unloading/{...}
         at_preload/{force, elongation, contact_map, pressure_map}  (attrs: d_tilde)
         at_pulloff/{...}
         let_go_d_tilde                                   per pillar (nan: never touched)
+
+Every dataset carries CF-style ``long_name`` and ``units`` attributes ("1": dimensionless) and
+HDF5 dimension scales (``point``, ``pillar``, ``row``/``column``), so netCDF readers
+(``xarray.open_dataset(path, engine="h5netcdf", group="preloads/0/unloading")``) name the axes.
+The preload attributes gain F_P_N, F_A_N, d_max_m, d_at_F_A_m for a scene in physical units.
 
 Files are written to a temporary name beside the target and renamed into place, so a failure
 leaves nothing behind and never a half-written file. :func:`read_result_file` reads a file back
@@ -31,29 +40,86 @@ import yaml
 from .._version import __version__
 from ..errors import StoreError
 from ..inputs.config import scene_to_yaml
+from ..inputs.physical import SI_UNITS
 from ..inputs.scene import scene_from_dict
 from ..inputs.limits import MAX_GRID_SIDE
 from . import h5check
 from .files import write_bytes_atomically
-from .results import Curve, PillarState, PreloadResult, SimulationResult, json_safe
+from .results import (
+    SI_FIELDS,
+    Curve,
+    PillarState,
+    PreloadResult,
+    SimulationResult,
+    json_safe,
+    si_summary,
+)
 
 PROGRAM = "fibril-hpc"
 CURVE_FIELDS = ("d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact")
 STATE_FIELDS = ("force", "elongation", "contact_map", "pressure_map")
+
+#: CF-style (long_name, units) of every dataset ("1": dimensionless; docs/model.md §2)
+CF = {
+    "d_tilde": ("plate displacement d/d_c (d > 0 presses the pillars in)", "1"),
+    "F_tilde": ("force on the plate F/F_c (F > 0 compression)", "1"),
+    "contact_fraction": ("attached area / total pillar-tip area", "1"),
+    "n_pillars_in_contact": ("pillars in contact", "1"),
+    "d_machine_tilde": ("machine displacement Delta/d_c", "1"),
+    "d": ("plate displacement d", "m"),
+    "F": ("force on the plate F", "N"),
+    "force": ("pillar force f_n/F_c", "1"),
+    "elongation": ("spring compression of the pillar, Delta l_n/d_c", "1"),
+    "contact_map": ("1 where an element is attached", "1"),
+    "pressure_map": ("contact pressure p A0/F_c (p > 0 compression)", "1"),
+    "let_go_d_tilde": ("d/d_c at which the pillar let go (nan: never touched)", "1"),
+    "xi": ("standard normal draw of the pillar length", "1"),
+    "zeta_tilde": ("set-back of the pillar from the longest one, zeta_n/d_c", "1"),
+    "point": ("index of the point along the branch", "1"),
+    "pillar": ("pillar index (row-major)", "1"),
+    "row": ("element row", "1"),
+    "column": ("element column", "1"),
+}
+
+
+def _dataset(group, name, data, dims=(), **kw):
+    """A dataset with its CF ``long_name``/``units`` and its dimension scales attached."""
+    ds = group.create_dataset(name, data=data, **kw)
+    ds.attrs["long_name"], ds.attrs["units"] = CF[name]
+    for axis, dim in enumerate(dims):
+        if dim not in group:
+            scale = group.create_dataset(dim, data=np.arange(ds.shape[axis]))
+            scale.attrs["long_name"], scale.attrs["units"] = CF[dim]
+            scale.make_scale(dim)
+        ds.dims[axis].attach_scale(group[dim])
+        ds.dims[axis].label = dim
+    return ds
+
+
+def _write_units(group, units: dict) -> None:
+    """The ``units`` group: one scalar dataset per SI scale, with its unit."""
+    g = group.create_group("units")
+    g.attrs["long_name"] = "SI value of every unit of this result (docs/units.md)"
+    for key, value in units.items():
+        ds = g.create_dataset(key, data=float(value))
+        ds.attrs["units"] = SI_UNITS.get(key, "")
 
 
 def _attrs_json(obj) -> str:
     return json.dumps(json_safe(obj), sort_keys=True)
 
 
-def _write_curve(group, name, curve):
+def _write_curve(group, name, curve, units):
     if curve is None:
         return
     g = group.create_group(name)
     for key in CURVE_FIELDS:
-        g.create_dataset(key, data=np.asarray(getattr(curve, key)))
+        _dataset(g, key, np.asarray(getattr(curve, key)), ("point",))
     if curve.d_machine_tilde is not None:
-        g.create_dataset("d_machine_tilde", data=np.asarray(curve.d_machine_tilde))
+        _dataset(g, "d_machine_tilde", np.asarray(curve.d_machine_tilde), ("point",))
+    if units:                   # the same branch in newtons and metres
+        _dataset(g, "d", np.asarray(curve.d_tilde) * units["d_c"], ("point",))
+        _dataset(g, "F", np.asarray(curve.F_tilde) * units["F_c"], ("point",))
 
 
 def _write_state(group, name, state):
@@ -61,10 +127,10 @@ def _write_state(group, name, state):
         return
     g = group.create_group(name)
     g.attrs["d_tilde"] = state.d_tilde
-    g.create_dataset("force", data=state.force)
-    g.create_dataset("elongation", data=state.elongation)
-    g.create_dataset("contact_map", data=state.contact_map, compression="gzip")
-    g.create_dataset("pressure_map", data=state.pressure_map, compression="gzip")
+    _dataset(g, "force", state.force, ("pillar",))
+    _dataset(g, "elongation", state.elongation, ("pillar",))
+    _dataset(g, "contact_map", state.contact_map, ("row", "column"), compression="gzip")
+    _dataset(g, "pressure_map", state.pressure_map, ("row", "column"), compression="gzip")
 
 
 def write_result(group, result: SimulationResult) -> None:
@@ -80,21 +146,27 @@ def write_result(group, result: SimulationResult) -> None:
     a["discretisation"] = _attrs_json(result.discretisation)
     a["stats"] = _attrs_json(result.stats)
     a["created"] = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
+    if result.units:
+        a["units"] = _attrs_json(result.units)
+        _write_units(group, result.units)
     if result.xi is not None:
         pg = group.create_group("pillars")
-        pg.create_dataset("xi", data=result.xi)
-        pg.create_dataset("zeta_tilde", data=result.zeta_tilde)
+        _dataset(pg, "xi", result.xi, ("pillar",))
+        _dataset(pg, "zeta_tilde", result.zeta_tilde, ("pillar",))
     pre = group.create_group("preloads")
     for i, r in enumerate(result.results):
         g = pre.create_group(str(i))
-        for key, value in r.summary().items():
+        summary = r.summary()
+        if result.units:
+            summary.update(si_summary(summary, result.units))
+        for key, value in summary.items():
             g.attrs[key] = value
-        _write_curve(g, "loading", r.loading)
-        _write_curve(g, "unloading", r.unloading)
+        _write_curve(g, "loading", r.loading, result.units)
+        _write_curve(g, "unloading", r.unloading, result.units)
         _write_state(g, "at_preload", r.at_preload)
         _write_state(g, "at_pulloff", r.at_pulloff)
         if r.let_go_d_tilde is not None:
-            g.create_dataset("let_go_d_tilde", data=r.let_go_d_tilde)
+            _dataset(g, "let_go_d_tilde", r.let_go_d_tilde, ("pillar",))
 
 
 def write_result_file(path: str, result: SimulationResult) -> None:
@@ -178,7 +250,8 @@ def read_result(group) -> SimulationResult:
     res = SimulationResult(scene=scene_from_dict(scene if scene is not None else {}),
                            status=a["status"], message=a["message"],
                            **{k: _json_attr(a, k)
-                              for k in ("discretisation", "stats", "versions", "definitions")})
+                              for k in ("discretisation", "stats", "versions", "definitions")},
+                           **({"units": _json_attr(a, "units")} if "units" in a else {}))
     pg = _group(group, "pillars")
     if pg is not None:
         res.xi = h5check.read_dataset(pg, "xi", h5check.NUMBER, ndim=None)
@@ -191,7 +264,7 @@ def read_result(group) -> SimulationResult:
         raise StoreError("preloads: members other than 0, 1, 2 ...")
     for i in sorted(names, key=int):
         g = _group(pre, i)
-        r = PreloadResult(**h5check.read_attrs(g))
+        r = PreloadResult(**{k: v for k, v in h5check.read_attrs(g).items() if k not in SI_FIELDS})
         r.loading, r.unloading = _curve(g, "loading"), _curve(g, "unloading")
         r.at_preload, r.at_pulloff = _state(g, "at_preload"), _state(g, "at_pulloff")
         r.let_go_d_tilde = h5check.read_dataset(g, "let_go_d_tilde", h5check.FLOAT)

@@ -11,6 +11,8 @@ import numpy as np
 from ...errors import ConfigError, StoreError
 from ..storage.record import COLUMNS, JobRecord
 from ..storage.store import read_snapshot
+from . import dataset
+from .si import has_units, si_columns
 
 log = logging.getLogger(__name__)
 
@@ -66,10 +68,12 @@ class CampaignData:
         """Column name -> array (numeric columns as float arrays)."""
         return {c: self.column(c) for c in COLUMNS}
 
-    def frame(self):
+    def to_dataframe(self):
         """The jobs as a pandas DataFrame, one row per job, the columns of :data:`COLUMNS` typed
         as the fields of :class:`~fibril_hpc.campaign.storage.record.JobRecord` (float, int64,
-        str); needs pandas (``pip install 'fibril-hpc[report]'``)."""
+        str; ``finished`` a UTC datetime), followed, for a grid in physical units, by the SI
+        columns of :data:`~fibril_hpc.campaign.analysis.si.SI_COLUMNS` (N, m, N/m); needs pandas
+        (``pip install 'fibril-hpc[report]'``)."""
         try:
             import pandas as pd
         except ImportError:
@@ -90,7 +94,18 @@ class CampaignData:
                 data[name] = np.array([0 if v is None else int(v) for v in vals], dtype=np.int64)
             else:
                 data[name] = ["" if v is None else str(v) for v in vals]
-        return pd.DataFrame(data, columns=list(COLUMNS))
+        data["finished"] = pd.to_datetime(data["finished"], utc=True, format="ISO8601")
+        if has_units(self.meta):
+            data.update(si_columns(self.jobs))
+        return pd.DataFrame(data, columns=list(data))
+
+    #: the name of :meth:`to_dataframe` before it had the name pandas users expect
+    frame = to_dataframe
+
+    def to_xarray(self, curves: bool = True):
+        """The jobs as an ``xarray.Dataset`` over (k_tilde, sigma_tilde, preload, seed): see
+        :func:`fibril_hpc.campaign.analysis.dataset.to_xarray`; needs xarray."""
+        return dataset.to_xarray(self, curves=curves)
 
     @property
     def definitions(self) -> dict:
@@ -158,7 +173,8 @@ def load_campaign(path: str, curves: bool = True, include_unchecked: bool = Fals
     >>> c = load_campaign("results.h5")                      # doctest: +SKIP
     >>> done = c.select(status="done", k_tilde=0.01)        # doctest: +SKIP
     >>> [(j["F_P"], j["F_A"]) for j in done]                # doctest: +SKIP
-    >>> df = c.frame()              # pandas DataFrame, one row per job  # doctest: +SKIP
+    >>> df = c.to_dataframe()       # pandas DataFrame, one row per job  # doctest: +SKIP
+    >>> ds = c.to_xarray()          # xarray Dataset over (k~, sigma~, preload, seed)  # doctest: +SKIP
     """
     snap = read_snapshot(path, curves=curves)
     if not snap.root:

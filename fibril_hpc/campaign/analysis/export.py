@@ -1,6 +1,7 @@
 """Export of a campaign, one row per job with the columns of
 :data:`fibril_hpc.campaign.storage.record.COLUMNS`: CSV
-(no extra dependency) and Parquet (pandas + pyarrow: the ``report`` extra)."""
+(no extra dependency) and Parquet (pandas + pyarrow: the ``report`` extra); and the whole
+campaign, curves included, as netCDF (xarray + h5netcdf: the ``netcdf`` extra)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import os
 from ...io.files import write_bytes_atomically, write_text_atomically
 from ..storage.record import COLUMNS
 from .data import load_campaign
+from .dataset import netcdf_available, to_xarray
 
 
 def _csv_value(v):
@@ -46,7 +48,7 @@ def parquet_available() -> bool:
 def export_parquet(path: str, out: str, include_unchecked: bool = False) -> int:
     """Write the jobs of ``path`` to the Parquet file ``out`` (atomically, typed columns);
     returns the rows. Needs pandas and pyarrow. Unchecked records as in :func:`export_csv`."""
-    df = load_campaign(path, curves=False, include_unchecked=include_unchecked).frame()
+    df = load_campaign(path, curves=False, include_unchecked=include_unchecked).to_dataframe()
     buf = io.BytesIO()
     df.to_parquet(buf, engine="pyarrow", index=False)
     write_bytes_atomically(out, buf.getvalue(), "writing the Parquet export",
@@ -54,4 +56,17 @@ def export_parquet(path: str, out: str, include_unchecked: bool = False) -> int:
     return len(df)
 
 
-__all__ = ["export_csv", "export_parquet", "parquet_available"]
+def export_netcdf(path: str, out: str, curves: bool = True,
+                  include_unchecked: bool = False) -> int:
+    """Write the campaign file ``path`` as the netCDF-4 file ``out`` through h5netcdf
+    (atomically): the Dataset of :func:`~fibril_hpc.campaign.analysis.dataset.to_xarray`, which
+    ``xarray.open_dataset(out)`` gives back equal; returns the jobs written."""
+    data = load_campaign(path, curves=curves, include_unchecked=include_unchecked)
+    blob = to_xarray(data, curves=curves).to_netcdf(engine="h5netcdf")
+    write_bytes_atomically(out, bytes(blob), "writing the netCDF export",
+                           "." + os.path.basename(out) + ".part-")
+    return len(data.jobs)
+
+
+__all__ = ["export_csv", "export_parquet", "export_netcdf", "parquet_available",
+           "netcdf_available"]

@@ -10,6 +10,8 @@ A grid YAML is a mapping::
     sigma_tilde: [0.1, 0.5]     # number or list
     F_P: [0.5, 1, 2, 4]         # or d_tilde: [...]; number or list; or auto (see .auto)
     seeds: 10                   # a count (seeds 0..9) or a list of seeds
+    # with scene.physical (SI units, docs/units.md), k: [N/m, ...] and sigma: [m, ...] may
+    # stand for k_tilde and sigma_tilde; the jobs are keyed by the normalised values
     group_preloads: true        # jobs sharing (k_tilde, sigma_tilde, seed) share one loading path
     sweep:                      # optional: lab-scene fields swept like the others (lists)
       k_machine: [.inf, 1, 0.1]
@@ -34,7 +36,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import os
 from dataclasses import dataclass, field, fields
 
@@ -45,13 +46,14 @@ from ...inputs.config import read_yaml
 from ...inputs.heights import is_file as is_height_file
 from ...inputs.heights import read_file as read_height_file
 from ...inputs.limits import check_job_count
-from ...inputs.ranges import range_of
+from ...inputs.physical import grid_values
+from ...inputs.ranges import as_float, range_of
 from ...inputs.scene import Scene, SolverOptions, scene_from_dict
 from .auto import parse, settings_hash
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
-            "group_preloads", "description", "sweep")
+            "group_preloads", "description", "sweep", "k", "sigma")
 #: scene fields a grid may sweep under ``sweep:`` (the lab fields of :class:`Scene`)
 SWEEPABLE = tuple(f.name for f in fields(Scene) if f.metadata.get("extra") and f.metadata["key"])
 #: scene fields that never enter a job key (provenance only, e.g. a height file's name)
@@ -111,6 +113,9 @@ class CampaignSpec:
     #: ``F_P: auto`` settings (:class:`.auto.AutoPreloads`), None for a fixed preload list
     auto: object = None
     sweep: dict = field(default_factory=dict)      # field -> tuple of values (``sweep:``)
+    #: a shard's (:mod:`.shard`): the hash of the whole grid, and the loading paths it keeps
+    grid_hash: str = ""
+    only_paths: frozenset | None = None
 
     # ------------------------------------------------------------------ identity
     def resolved(self) -> dict:
@@ -135,6 +140,8 @@ class CampaignSpec:
     def campaign_hash(self) -> str:
         """SHA-256 of the sorted job keys; with ``F_P: auto`` (jobs chosen while it runs) of the
         sorted path keys ``auto:<settings hash>:<key of the path's scene at F_P = 1>``."""
+        if self.grid_hash:
+            return self.grid_hash
         if self.auto is None:
             return campaign_hash_of(j.key for j in self.jobs)
 
@@ -142,9 +149,11 @@ class CampaignSpec:
         return campaign_hash_of(f"auto:{h}:{self.path_key(p)}" for p in self.paths())
 
     # ------------------------------------------------------------------ F_P: auto
-    def paths(self) -> list:
-        """The loading paths (k_tilde, sigma_tilde, seed), in grid order."""
-        return [(k, s, seed) for k in self.k_tilde for s in self.sigma_tilde for seed in self.seeds]
+    def paths(self, whole: bool = False) -> list:
+        """The loading paths (k_tilde, sigma_tilde, seed), in grid order (a shard's own, unless
+        ``whole``)."""
+        return [(k, s, seed) for k in self.k_tilde for s in self.sigma_tilde for seed in self.seeds
+                if whole or self.only_paths is None or (k, s, seed) in self.only_paths]
 
     def path_key(self, path) -> str:
         """Key of the path's scene at F_P = 1 (its identity in an auto grid's campaign hash)."""
@@ -154,7 +163,7 @@ class CampaignSpec:
     def auto_task(self, path, preloads) -> Task:
         """One round of an ``F_P: auto`` path: a task with one ordinary job per preload."""
         k, s, seed = path
-        base_index = self.paths().index(path) * 1000
+        base_index = self.paths(whole=True).index(path) * 1000
         jobs = []
         for i, p in enumerate(sorted(preloads)):
             job = Job("", base_index + i, k, s, "F_P", p, seed)
@@ -219,11 +228,8 @@ def _values(name, v):
     for item in items:
         if isinstance(item, bool) or not isinstance(item, (int, float, str)):
             raise ConfigError(name, item, allowed)
-        try:
-            x = float(item)
-        except ValueError:
-            raise ConfigError(name, item, allowed) from None
-        if math.isnan(x) or not rng.contains(x):
+        x = as_float(name, item, allowed)       # "inf", never a number in quotes
+        if not rng.contains(x):
             raise ConfigError(name, item, allowed)
         out.append(x)
     if len(set(out)) != len(out):
@@ -305,6 +311,8 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
             scene_map[key] = os.path.join(base_dir, os.path.expanduser(scene_map[key]))
     base = scene_from_dict(scene_map, where="scene.")
     sweep = _sweep(data.get("sweep"))
+    data = {**{k: v for k, v in data.items() if k not in ("k", "sigma")},   # SI lists, converted
+            **grid_values(data, scene_map.get("physical"), base)}
     for name in ("k_tilde", "sigma_tilde"):
         if name not in data:
             raise ConfigError(name, None, "a number or a list of numbers (required)")

@@ -6,7 +6,8 @@ Layout (open it with h5py; every number is dimensionless, see the ``definitions`
               campaign_hash (SHA-256 of the sorted job keys), key_definition, definitions (JSON:
               every normalisation), versions (JSON), layout (this text), created, updated,
               n_jobs (jobs of the grid), extended_from (JSON list of earlier grids' hashes and
-              YAML), merged_from (JSON, after ``merge``)
+              YAML), merged_from (JSON, after ``merge``), units (JSON, a grid given in physical
+              units only: the SI value of every unit of its base scene, docs/units.md)
     /jobs/<key>/  attrs: key, record_id, campaign_hash, k_tilde, sigma_tilde, preload_kind,
                          preload, seed, status ("done" or "failed"), message (the error),
                          F_P, F_A, d_tilde_max, d_tilde_at_F_A, n_pillars_in_contact_max, events,
@@ -248,13 +249,16 @@ def checkpoint(path: str, root_attrs: dict, records, drop=(), unsigned=()) -> No
 def root_attrs_for(spec, extended_from=None) -> dict:
     """Root attributes describing a campaign spec."""
     b = spec.base
-    scaling = Lattice.of(b.n_side, b.phi, b.elements_per_diameter, b.lattice).scaling(
-        b.work_of_adhesion)
+    lattice = Lattice.of(b.n_side, b.phi, b.elements_per_diameter, b.lattice)
+    scaling = lattice.scaling(b.work_of_adhesion)
     defs = dict(scaling.definitions())
     defs["F_A"] = "pull-off force: -min F over the unloading branch, / F_c"
     defs["F_P"] = "force at the end of loading (the preload reached), / F_c"
     defs["contact_fraction"] = "attached area / total pillar-tip area"
+    units = {} if b.physical is None else {   # only for a grid in physical units
+        "units": json.dumps(json_safe(b.physical.si(lattice)), sort_keys=True)}
     return {
+        **units,
         "program": PROGRAM,
         "format_version": FORMAT_VERSION,
         "fibril_hpc_version": __version__,
