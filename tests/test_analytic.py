@@ -1,5 +1,5 @@
 """Validation against closed-form contact mechanics (docs/model.md §8). Tolerances are the measured
-discretisation bias at the resolution used (README, "Validation"), not looser."""
+discretisation bias at the resolution used (docs/scenes.md, "Validation"), not looser."""
 
 import math
 

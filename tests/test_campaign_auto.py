@@ -145,7 +145,7 @@ def test_shipped_grids_load():
     specs = {n: load_spec(os.path.join(here, n)) for n in os.listdir(here) if n.endswith(".yaml")}
     assert {"demo.yaml", "paper.yaml", "report_example.yaml"} <= set(specs)
     paper = specs["paper.yaml"]
-    # soft pillars bend near F_P = 0.01 (README, "Report"): the paper grid starts far below
+    # soft pillars bend near F_P = 0.01 (docs/report.md): the paper grid starts far below
     assert paper.auto is not None and paper.auto.start[0] <= 0.001 and paper.auto.min <= 1e-4
     assert specs["report_example.yaml"].campaign_hash.startswith("062ebf3df2b0")
 

@@ -304,7 +304,7 @@ def test_6_zeroed_block_one_line_and_salvage(finished, tmp_path, frac, capsys, c
     new = tmp_path / "saved.h5"
     code, o, e = cli(["salvage", out, "-o", new], capsys, caplog)
     assert code == 0 and "record(s) copied" in o, e
-    assert int(o.split(": ")[1].split()[0]) >= 14      # 14-15 measured (README)
+    assert int(o.split(": ")[1].split()[0]) >= 14      # 14-15 measured (docs/campaigns.md)
     code, o, e = cli(["verify", new], capsys, caplog)
     assert code == 0 and "no damage found" in o
     code, o, e = cli([grid, "--no-progress", "--output", new], capsys, caplog)

@@ -1,5 +1,5 @@
 """Accuracy presets: named sets of resolution and solver knobs, chosen from the measured
-accuracy/time trade-off (``fibril-accuracy``; README, "Accuracy and presets").
+accuracy/time trade-off (``fibril-accuracy``; docs/accuracy.md).
 
 A scene picks one with ``preset: fast | default | accurate`` (YAML) or ``Scene(preset=...)``.
 The preset fills only what the scene does not give:

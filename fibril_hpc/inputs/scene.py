@@ -1,6 +1,6 @@
 """The physical scene and the solver options: frozen, validated dataclasses.
 
-Every input is dimensionless (see ``docs``/README and :mod:`fibril_hpc.geometry.scaling`). One name per
+Every input is dimensionless (see docs/model.md and :mod:`fibril_hpc.geometry.scaling`). One name per
 quantity: the YAML key, the dataclass field, the HDF5 attribute and the JSON key are the same.
 Construction validates every field and raises :class:`~fibril_hpc.errors.ConfigError` naming the
 field and the allowed range; nothing else in the package re-checks user input.

@@ -332,7 +332,7 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
             if kind != "F_P":
                 raise
             raise ConfigError(exc.field, exc.value, exc.allowed + "; or auto, or "
-                              "{auto: {settings}} (README, 'Report')") from None
+                              "{auto: {settings}} (docs/campaigns.md, 'F_P: auto')") from None
     seeds_v = data.get("seeds", 1)
     if isinstance(seeds_v, bool):
         raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
