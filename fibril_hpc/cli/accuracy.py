@@ -11,11 +11,12 @@ from ..accuracy.study import run_one
 from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError
 from ..io.files import check_output_folder
 from ..io.results import software_versions
-from .common import Parser, error, memory_guard
+from .common import Parser, add_version, error, memory_guard, pipe_safe
 
 PROG = "fibril-accuracy"
 
 
+@pipe_safe
 @memory_guard(PROG)
 def main(argv=None) -> int:
     """``fibril-accuracy``; returns the exit status."""
@@ -32,6 +33,7 @@ def main(argv=None) -> int:
     p.add_argument("--code", default=f"fibril_hpc {__version__}", metavar="LABEL",
                    help="label of the code that runs, recorded per row (timings depend on it; "
                         "default: the package version; e.g. a git commit)")
+    add_version(p)
     p.add_argument("--report-only", action="store_true",
                    help="rewrite the table and plot from DIR/accuracy.csv without running")
     args = p.parse_args(argv)

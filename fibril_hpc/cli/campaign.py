@@ -23,7 +23,7 @@ from ..errors import (
     StoreError,
 )
 from ..io.files import check_output_folder, check_writable
-from .common import OUT_OF_MEMORY, Parser, error, setup_logging
+from .common import OUT_OF_MEMORY, Parser, add_version, error, pipe_safe, setup_logging
 
 ON_CONFLICT = ("refuse", "first", "last")
 UNCHECKED_HELP = ("also take records without a checksum (nothing vouches for them: written "
@@ -35,6 +35,7 @@ PROG = "fibril-campaign"
 def _parser() -> Parser:
     p = Parser(prog=PROG, description="Parameter campaigns of fibril-hpc into one resumable "
                 "HDF5 file (serial, or master/worker under mpirun/srun).")
+    add_version(p)
     sub = p.add_subparsers(dest="cmd", parser_class=Parser)
     r = sub.add_parser("run", help="run (or resume) a campaign (the default command)")
     r.add_argument("grid", help="campaign grid YAML")
@@ -64,12 +65,13 @@ def _parser() -> Parser:
                         "SLURM_ARRAY_TASK_COUNT")
     r.add_argument("-v", "--verbose", action="store_true", help="log what happens (INFO)")
     s = sub.add_parser("status", help="progress of a campaign file (safe while it is written)")
-    s.add_argument("file")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("file", help="campaign HDF5 file")
+    s.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     rp = sub.add_parser("report", help="plateau, c, c0, alpha, beta, sigma_c: tables, figures, "
                                        "README.md and report.html (docs/report.md)")
-    rp.add_argument("file")
-    rp.add_argument("--out", required=True, metavar="DIR")
+    rp.add_argument("file", help="campaign HDF5 file")
+    rp.add_argument("--out", required=True, metavar="DIR",
+                    help="folder for README.md, report.html, the CSV tables and the figures")
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
                     help="bootstrap resamples over seeds for the seed intervals (default 400)")
     rp.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
@@ -84,8 +86,9 @@ def _parser() -> Parser:
                         "the curves (needs xarray and h5netcdf: the 'netcdf' extra)")
     e.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
     m = sub.add_parser("merge", help="merge campaign files into a new one")
-    m.add_argument("files", nargs="+")
-    m.add_argument("-o", "--output", required=True, metavar="ALL.h5")
+    m.add_argument("files", nargs="+", help="campaign files (shards) of one grid")
+    m.add_argument("-o", "--output", required=True, metavar="ALL.h5",
+                   help="the merged file (new; none of the inputs)")
     m.add_argument("--on-conflict", choices=ON_CONFLICT, default="refuse",
                    help="a key done in two files with different numbers: refuse (default), or "
                         "keep the first or the last file's record")
@@ -94,19 +97,21 @@ def _parser() -> Parser:
     m.add_argument("--include-unchecked", action="store_true",
                    help=UNCHECKED_HELP + " (copied without a checksum)")
     v = sub.add_parser("verify", help="check every record of a file against its checksum")
-    v.add_argument("file")
+    v.add_argument("file", help="campaign HDF5 file")
     sv = sub.add_parser("salvage", help="copy every readable, verified record into a new file")
-    sv.add_argument("file")
-    sv.add_argument("-o", "--output", required=True, metavar="NEW.h5")
+    sv.add_argument("file", help="damaged campaign HDF5 file (read only)")
+    sv.add_argument("-o", "--output", required=True, metavar="NEW.h5",
+                    help="the new file with every readable, verified record")
     sv.add_argument("--keep-unchecked", action="store_true",
                     help="also copy records written before checksums existed")
     return p
 
 
+@pipe_safe
 def main(argv=None) -> int:
     """``fibril-campaign``; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    if argv and argv[0] not in SUBCOMMANDS and argv[0] not in ("-h", "--help"):
+    if argv and argv[0] not in SUBCOMMANDS and argv[0] not in ("-h", "--help", "--version"):
         argv = ["run"] + argv
     p = _parser()
     if not argv:                       # one line (the usage would wrap over several)
@@ -118,9 +123,6 @@ def main(argv=None) -> int:
         return {"run": cmd_run, "status": cmd_status, "report": cmd_report,
                 "export": cmd_export, "merge": cmd_merge, "verify": cmd_verify,
                 "salvage": cmd_salvage}[args.cmd](args)
-    except BrokenPipeError:            # e.g. `fibril-campaign status f.h5 | head`
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return EXIT_OK
     except ConfigError as exc:
         return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
     except DiskFull as exc:            # an interruption: rerun once there is room

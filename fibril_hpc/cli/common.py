@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import logging
+import os
 import sys
 
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
 
-__all__ = ["Parser", "error", "setup_logging", "memory_guard", "one_line", "OUT_OF_MEMORY",
-           "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_INTERRUPTED"]
+__all__ = ["Parser", "error", "setup_logging", "memory_guard", "pipe_safe", "one_line",
+           "versions_text", "add_version", "OUT_OF_MEMORY", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE",
+           "EXIT_INTERRUPTED"]
 
 
 class Parser(argparse.ArgumentParser):
@@ -44,9 +47,65 @@ OUT_OF_MEMORY = ("out of memory (MemoryError): this input needs more memory than
                  "use (lower n_side or elements_per_diameter, or ask for more memory)")
 
 
+def versions_text() -> str:
+    """The versions of fibril-hpc and of the libraries its numbers depend on (two lines)."""
+    from ..io.results import software_versions
+
+    v = software_versions()
+    return " ".join(f"{k}={v[k]}" for k in ("fibril_hpc", "numpy", "numba", "pyfftw", "fftw",
+                                            "h5py", "hdf5", "python")) + f"\nrng: {v['rng']}"
+
+
+class _Version(argparse.Action):
+    def __init__(self, option_strings, dest, **kwargs):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS,
+                         help="print the versions of fibril-hpc and its libraries, and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from .._version import __version__
+
+        print(f"fibril-hpc {__version__}\n{versions_text()}")
+        parser.exit(EXIT_OK)
+
+
+def add_version(parser: argparse.ArgumentParser) -> None:
+    """Give ``parser`` a ``--version`` option (the versions, unwrapped, then exit 0)."""
+    parser.add_argument("--version", action=_Version)
+
+
+def pipe_safe(main):
+    """Decorate a command's ``main``: a reader that closes the pipe early (``fibril-run ... |
+    head``, ``--help | head -1``) ends the command quietly with status 0, as ``head`` meant,
+    instead of a BrokenPipeError traceback (stdout is pointed at /dev/null so that the final
+    flush cannot fail again)."""
+
+    @functools.wraps(main)
+    def guarded(*args, **kwargs):
+        try:
+            code = main(*args, **kwargs)
+            sys.stdout.flush()              # a closed pipe shows here, not at interpreter exit
+            return code
+        except SystemExit:                  # --help, --version: argparse exits after printing
+            try:
+                sys.stdout.flush()
+            except BrokenPipeError:
+                _stdout_to_devnull()
+            raise
+        except BrokenPipeError:
+            _stdout_to_devnull()
+            return EXIT_OK
+    return guarded
+
+
+def _stdout_to_devnull() -> None:
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+
+
 def memory_guard(prog: str):
     """Decorate a command's ``main``: a MemoryError anywhere becomes one line, exit 2."""
-    import functools
 
     def wrap(main):
         @functools.wraps(main)

@@ -8,16 +8,9 @@ import sys
 
 from .._version import __version__
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError, DiskFull, StoreError
-from ..io.results import software_versions
-from .common import Parser, error, memory_guard, setup_logging
+from .common import Parser, error, memory_guard, pipe_safe, setup_logging, versions_text
 
 PROG = "fibril-run"
-
-
-def _versions_text() -> str:
-    v = software_versions()
-    return " ".join(f"{k}={v[k]}" for k in ("fibril_hpc", "numpy", "numba", "pyfftw", "fftw",
-                                            "h5py", "hdf5", "python")) + f"\nrng: {v['rng']}"
 
 
 def _human(result) -> str:
@@ -54,6 +47,7 @@ def _human(result) -> str:
     return "\n".join(lines)
 
 
+@pipe_safe
 @memory_guard(PROG)
 def main(argv=None) -> int:
     """``fibril-run``: simulate one scene; returns the exit status."""
@@ -68,11 +62,14 @@ def main(argv=None) -> int:
                    help="replace an existing --out/--plot file even if fibril-hpc did not write it")
     p.add_argument("--ignore-memory-check", action="store_true",
                    help="run even if the scene's memory estimate exceeds the memory available")
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress display on stderr (a bar on a terminal, else a line "
+                        "every 10 s)")
     p.add_argument("--version", action="store_true", help="print versions and exit")
-    p.add_argument("-v", "--verbose", action="store_true")
+    p.add_argument("-v", "--verbose", action="store_true", help="log what happens (INFO)")
     args = p.parse_args(argv)
     if args.version:
-        print(f"fibril-hpc {__version__}\n{_versions_text()}")
+        print(f"fibril-hpc {__version__}\n{versions_text()}")
         return EXIT_OK
     setup_logging(args.verbose)
     from ..inputs.config import builtin_scene, load_scene
@@ -94,8 +91,13 @@ def main(argv=None) -> int:
     except ConfigError as exc:
         return error(PROG, exc, EXIT_USAGE)
     from ..api import simulate
+    from ..io.progress import RunProgress
 
-    result = simulate(scene)
+    progress = RunProgress(len(scene.preloads), enabled=not args.no_progress)
+    try:
+        result = simulate(scene, progress=progress)
+    finally:
+        progress.close()
     try:
         if args.out:
             from ..io.store import write_result_file

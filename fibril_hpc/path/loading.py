@@ -79,6 +79,10 @@ class PathDriver:
         self._ones = np.ones(n)
         self._dl = np.zeros(ng)
         self.events = 0
+        #: called as ``observer(phase, d, F, events)`` after every recorded point (internal
+        #: units; ``phase`` is "loading" or "unloading"), or None: a progress display's hook
+        self.observer = None
+        self.phase = "loading"
         opts = model.options
         d_c = model.scaling.d_c
         self.merge = {-1.0: opts.event_merge * d_c, +1.0: opts.load_event_merge * d_c}
@@ -113,8 +117,11 @@ class PathDriver:
         return int(np.count_nonzero(self.counts))
 
     def record(self, curve: CurveRecorder):
-        """Append the current state to ``curve``."""
-        curve.add(self.d, self.force(), self.n_attached(), self.pillars_in_contact())
+        """Append the current state to ``curve`` (and tell the observer, if any)."""
+        F = self.force()
+        curve.add(self.d, F, self.n_attached(), self.pillars_in_contact())
+        if self.observer is not None:
+            self.observer(self.phase, self.d, F, self.events)
 
     # -- solves -----------------------------------------------------------------------------
     def relax(self):
@@ -369,6 +376,7 @@ class PathDriver:
         kind is ``"d"`` (plate displacement, internal units) or ``"F"`` (force, internal units).
         """
         self._reset(0.0)
+        self.phase = "loading"
         self.solve_direction()
         self.record(curve)
         snaps = []
@@ -403,6 +411,7 @@ class PathDriver:
     def unload(self, snap: Snapshot) -> BranchResult:
         """Pull off from a preload snapshot until no element is attached."""
         self.restore(snap)
+        self.phase = "unloading"
         curve = CurveRecorder()
         self.record(curve)
         ng = self.model.geometry.n_groups

@@ -1,30 +1,45 @@
-"""The live progress line of a running campaign (stderr)."""
+"""The progress of a running campaign on stderr (a bar on a terminal, lines elsewhere) and
+the lines that close a run."""
 
 from __future__ import annotations
 
-import sys
 import time
+
+from ...io.progress import Bar, clock
 
 
 class Progress:
-    """A live progress line with an ETA (carriage return on a terminal, a line every
-    ``every_s`` seconds otherwise) on stderr."""
+    """The progress of a running campaign on stderr: a tqdm bar on a terminal (jobs finished
+    of the grid, rate, ETA, done/failed/running), a plain line every ``every_s`` seconds
+    otherwise. ``total`` may grow (an ``F_P: auto`` round adds jobs): the bar and the ETA
+    follow, and ``growing`` says that later rounds may add more."""
 
     def __init__(self, total_jobs: int, workers: int, stream=None, every_s: float = 10.0,
-                 enabled: bool = True, done_before: int = 0, failed_before: int = 0):
-        self.total = total_jobs
+                 enabled: bool = True, done_before: int = 0, failed_before: int = 0,
+                 growing: bool = False):
+        self._total = total_jobs
         #: jobs of the grid finished by earlier runs (counted in the line, not in the ETA)
         self.done_before = done_before
         self.failed_before = failed_before
         self.workers = max(1, workers)
-        self.stream = stream or sys.stderr
-        self.tty = getattr(self.stream, "isatty", lambda: False)()
-        self.every_s = every_s
+        self.growing = growing
         self.enabled = enabled
         self.t0 = time.monotonic()
         self.done = self.failed = 0
-        self._last = 0.0
         self.running = 0
+        self.bar = Bar("fibril-campaign", " jobs", total_jobs, done_before + failed_before,
+                       self.line, stream, enabled, every_s)
+        self.tty = self.bar.tty
+
+    @property
+    def total(self) -> int:
+        """Jobs of the grid known so far."""
+        return self._total
+
+    @total.setter
+    def total(self, value: int) -> None:
+        self._total = value
+        self.bar.set_total(value)
 
     def update(self, records, running: int = 0, force: bool = False):
         """Count finished ``records`` (one task's), note the running tasks, maybe redraw."""
@@ -36,43 +51,31 @@ class Progress:
         self.running = running
         self.show(force)
 
+    def counts(self) -> str:
+        """Done, failed and running jobs (and whether rounds may add jobs)."""
+        text = (f"{self.done_before + self.done} done, {self.failed_before + self.failed} "
+                f"failed, {self.running} running")
+        return text + ("; F_P: auto rounds may add jobs" if self.growing else "")
+
     def line(self) -> str:
         """The progress text: jobs finished, done, failed, running, elapsed, ETA."""
         finished = self.done + self.failed
         before = self.done_before + self.failed_before
         left = self.total - before - finished
         el = time.monotonic() - self.t0
-        if finished:
-            rate = finished / el
-            eta = left / rate if rate > 0 else float("inf")
-            eta_s = time.strftime("%H:%M:%S", time.gmtime(eta)) if eta < 8.6e5 else ">10 d"
-        else:
-            eta_s = "?"
+        eta = left / (finished / el) if finished and el > 0 else float("nan")
         return (f"fibril-campaign: {before + finished}/{self.total} jobs "
-                f"({self.done_before + self.done} done, {self.failed_before + self.failed} "
-                f"failed, {self.running} running; {finished} this run) "
-                f"elapsed {time.strftime('%H:%M:%S', time.gmtime(el))} ETA {eta_s}")
+                f"({self.counts()}; {finished} this run) "
+                f"elapsed {clock(el)} ETA {clock(eta)}")
 
     def show(self, force=False):
-        """Redraw the line (on a terminal at most twice a second, else every ``every_s``)."""
-        if not self.enabled:
-            return
-        now = time.monotonic()
-        if self.tty:
-            if force or now - self._last >= 0.5:
-                self.stream.write("\r" + self.line() + "\x1b[K")
-                self.stream.flush()
-                self._last = now
-        elif force or now - self._last >= self.every_s:
-            self.stream.write(self.line() + "\n")
-            self.stream.flush()
-            self._last = now
+        """Redraw the bar, or write the plain line when it is due (or ``force``)."""
+        n = self.done_before + self.failed_before + self.done + self.failed
+        self.bar.show(n, self.counts(), force)
 
     def finish(self):
-        """End the line on a terminal."""
-        if self.enabled and self.tty:
-            self.stream.write("\n")
-            self.stream.flush()
+        """End the bar on a terminal."""
+        self.bar.close()
 
 
 def for_planner(planner, n_todo: int, workers: int, enabled: bool) -> Progress:
@@ -87,7 +90,7 @@ def for_planner(planner, n_todo: int, workers: int, enabled: bool) -> Progress:
     before = total - n_todo
     done = min(c["done"], before)
     return Progress(total, workers, enabled=enabled, done_before=done,
-                    failed_before=before - done)
+                    failed_before=before - done, growing=not planner.fixed)
 
 
 def nothing_to_run(output: str, counts: dict) -> str:

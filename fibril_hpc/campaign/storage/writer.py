@@ -67,6 +67,12 @@ class CampaignWriter:
             raise ConfigError("output", self.path,
                               "a file that no other running campaign is writing (it is locked)") \
                 from None
+        if not _same_file(self._lock_fd, self.path + ".lock"):
+            # the writer before us removed the lock file as it finished, after we opened it:
+            # our lock is on a file nobody else can see
+            self._unlock()
+            raise ConfigError("output", self.path, "a file that no other campaign is writing "
+                              "(one was finishing as this one started: rerun the command)")
         try:
             self._open(spec, extend, extended_from)
         except BaseException:
@@ -208,21 +214,53 @@ class CampaignWriter:
 
     def close(self) -> None:
         """Publish what is left, then release the journal and the lock (always, even when the
-        last checkpoint fails: its records stay safe in the journal)."""
+        last checkpoint fails: its records stay safe in the journal). Once everything is in
+        the file, the then empty journal and the lock file are removed: a finished campaign
+        leaves its HDF5 file alone beside the grid."""
+        published = False
         try:
             self.checkpoint(force=bool(self._unpublished or self.corrupt))
+            published = True
         finally:
             self.journal.close()
-            self._unlock()
+            if published:
+                _remove_if_empty(self.journal.path)
+            self._unlock(remove=published)
 
-    def _unlock(self) -> None:
+    def _unlock(self, remove: bool = False) -> None:
         if self._lock_fd is None:
             return
         try:
+            if remove:              # while still holding it: see the check in __init__
+                _remove_if_same(self._lock_fd, self.path + ".lock")
             fcntl.flock(self._lock_fd, fcntl.LOCK_UN)
         finally:
             os.close(self._lock_fd)
             self._lock_fd = None
+
+
+def _same_file(fd: int, path: str) -> bool:
+    try:
+        a, b = os.fstat(fd), os.stat(path)
+    except OSError:
+        return False
+    return (a.st_dev, a.st_ino) == (b.st_dev, b.st_ino)
+
+
+def _remove_if_same(fd: int, path: str) -> None:
+    if _same_file(fd, path):
+        try:
+            os.unlink(path)
+        except OSError:
+            pass
+
+
+def _remove_if_empty(path: str) -> None:
+    try:
+        if os.path.getsize(path) == 0:
+            os.unlink(path)
+    except OSError:
+        pass
 
 
 __all__ = ["CampaignWriter"]

@@ -1,0 +1,78 @@
+"""What a user hits first: --version on every command, help text on every option, no
+BrokenPipe traceback when a pager or head closes the pipe."""
+
+import argparse
+import os
+import subprocess
+import sys
+
+import pytest
+
+BIN = os.path.dirname(sys.executable)
+
+
+def _parsers():
+    from fibril_hpc.cli import accuracy, campaign, run
+
+    out = []
+    for mod in (run, campaign, accuracy):
+        seen = []
+
+        class Capture(Exception):
+            pass
+
+        def fake_parse(self, args=None, namespace=None, _seen=seen):
+            _seen.append(self)
+            raise Capture()
+
+        orig = argparse.ArgumentParser.parse_args
+        argparse.ArgumentParser.parse_args = fake_parse
+        try:
+            try:
+                mod.main(["--help"] if mod is not campaign else ["status", "x.h5"])
+            except Capture:
+                pass
+        finally:
+            argparse.ArgumentParser.parse_args = orig
+        out += seen
+    return out
+
+
+def _walk(parser, name):
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub_name, sub in action.choices.items():
+                yield from _walk(sub, f"{name} {sub_name}")
+            continue
+        yield name, action
+
+
+def test_every_option_and_argument_of_every_command_has_help():
+    parsers = _parsers()
+    assert len(parsers) == 3
+    missing = [f"{name}: {a.option_strings or a.dest}" for p in parsers
+               for name, a in _walk(p, p.prog) if not a.help or a.help == argparse.SUPPRESS]
+    assert missing == []
+
+
+@pytest.mark.parametrize("cmd", ["fibril-run", "fibril-campaign", "fibril-accuracy"])
+def test_version(cmd):
+    r = subprocess.run([os.path.join(BIN, cmd), "--version"], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0 and r.stdout.startswith("fibril-hpc ") and "numpy=" in r.stdout
+
+
+@pytest.mark.parametrize("cmd", [
+    "fibril-run --builtin quick --no-progress | true",      # the reader is gone before a byte
+    "fibril-campaign --help | true",
+    "fibril-run --builtin quick --no-progress | head -1",
+    "fibril-campaign --help | head -1",
+    "fibril-run --help | head -1",
+    "fibril-campaign --version | head -1",
+])
+def test_closed_pipe_is_quiet(cmd):
+    big = cmd.replace("fibril-", os.path.join(BIN, "fibril-"), 1)
+    r = subprocess.run(["bash", "-o", "pipefail", "-c", big], capture_output=True, text=True,
+                       timeout=300, env={**os.environ, "PYTHONUNBUFFERED": ""})
+    assert "Traceback" not in r.stderr and "BrokenPipe" not in r.stderr, r.stderr
+    assert r.returncode == 0, r.stderr
