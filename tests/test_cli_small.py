@@ -76,3 +76,53 @@ def test_closed_pipe_is_quiet(cmd):
                        timeout=300, env={**os.environ, "PYTHONUNBUFFERED": ""})
     assert "Traceback" not in r.stderr and "BrokenPipe" not in r.stderr, r.stderr
     assert r.returncode == 0, r.stderr
+
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHIPPED = {"demo": "campaigns/demo.yaml", "paper": "campaigns/paper.yaml",
+           "campaign.sbatch": "slurm/campaign.sbatch", "array.sbatch": "slurm/array.sbatch",
+           "chain.sh": "slurm/chain.sh"}
+
+
+@pytest.mark.parametrize("name", sorted(SHIPPED))
+def test_example_prints_the_repository_file(name, capsysbinary):
+    from fibril_hpc.cli.campaign import main
+
+    assert main(["example", name]) == 0
+    with open(os.path.join(ROOT, SHIPPED[name]), "rb") as fh:
+        assert capsysbinary.readouterr().out == fh.read()
+
+
+def test_example_list_unknown_and_output_file(tmp_path, capsys):
+    from fibril_hpc.cli.campaign import main
+
+    assert main(["example"]) == 0
+    listed = capsys.readouterr().out
+    assert all(n in listed for n in ("demo.yaml", "paper.yaml", "campaign.sbatch", "chain.sh"))
+    assert main(["example", "nope"]) == 2
+    assert "name" in capsys.readouterr().err
+    out = tmp_path / "job.sbatch"
+    assert main(["example", "campaign.sbatch", "-o", str(out)]) == 0
+    assert os.access(out, os.X_OK)
+    assert main(["example", "demo", "-o", str(out)]) == 2       # never over an existing file
+
+
+def test_the_wheel_ships_the_examples(tmp_path):
+    """`pip install fibril-hpc` alone is enough: the built wheel holds every grid and script,
+    byte for byte, scripts executable."""
+    import zipfile
+
+    r = subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w",
+                        str(tmp_path), ROOT], capture_output=True, text=True, timeout=600)
+    if r.returncode != 0 and "No matching distribution" in r.stderr:
+        pytest.skip("no package index to build the wheel with")
+    assert r.returncode == 0, r.stderr
+    (whl,) = tmp_path.glob("fibril_hpc-*.whl")
+    with zipfile.ZipFile(whl) as z:
+        for rel in SHIPPED.values():
+            member = "fibril_hpc/examples/" + ("grids/" if rel.startswith("campaigns") else
+                                               "slurm/") + os.path.basename(rel)
+            with open(os.path.join(ROOT, rel), "rb") as fh:
+                assert z.read(member) == fh.read(), member
+            if rel.startswith("slurm"):
+                assert (z.getinfo(member).external_attr >> 16) & 0o111, member

@@ -28,7 +28,7 @@ from .common import OUT_OF_MEMORY, Parser, add_version, error, pipe_safe, setup_
 ON_CONFLICT = ("refuse", "first", "last")
 UNCHECKED_HELP = ("also take records without a checksum (nothing vouches for them: written "
                   "before checksums existed, or stripped of theirs)")
-SUBCOMMANDS = ("run", "status", "report", "export", "merge", "verify", "salvage")
+SUBCOMMANDS = ("run", "status", "report", "export", "merge", "verify", "salvage", "example")
 PROG = "fibril-campaign"
 
 
@@ -104,6 +104,12 @@ def _parser() -> Parser:
                     help="the new file with every readable, verified record")
     sv.add_argument("--keep-unchecked", action="store_true",
                     help="also copy records written before checksums existed")
+    ex = sub.add_parser("example", help="print a shipped grid or Slurm script (no NAME: list "
+                        "them), e.g. `fibril-campaign example demo > grid.yaml`")
+    ex.add_argument("name", nargs="?", help="the example: demo, paper, machine, report_example, "
+                    "campaign.sbatch, array.sbatch, chain.sh")
+    ex.add_argument("-o", "--output", metavar="FILE",
+                    help="write it to FILE (a new file; scripts made executable), not stdout")
     return p
 
 
@@ -122,7 +128,7 @@ def main(argv=None) -> int:
     try:
         return {"run": cmd_run, "status": cmd_status, "report": cmd_report,
                 "export": cmd_export, "merge": cmd_merge, "verify": cmd_verify,
-                "salvage": cmd_salvage}[args.cmd](args)
+                "salvage": cmd_salvage, "example": cmd_example}[args.cmd](args)
     except ConfigError as exc:
         return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
     except DiskFull as exc:            # an interruption: rerun once there is room
@@ -330,6 +336,33 @@ def cmd_verify(args) -> int:
     for line in v.lines():
         print(line)
     return EXIT_OK if v.clean else EXIT_FAILED
+
+
+def cmd_example(args) -> int:
+    """``fibril-campaign example [NAME] [-o FILE]``: the shipped grids and Slurm scripts."""
+    from .. import examples
+
+    if args.name is None:
+        for name in examples.names():
+            print(f"{name:20s} {examples.summary(name)}")
+        return EXIT_OK
+    name = examples.resolve(args.name)
+    if name is None:
+        raise ConfigError("name", args.name, "one of " + ", ".join(examples.names()))
+    text = examples.text(name)
+    if args.output is None:
+        sys.stdout.write(text)
+        return EXIT_OK
+    from ..io.files import check_writable, write_text_atomically
+
+    check_writable(args.output, "--output")
+    if os.path.lexists(args.output):
+        raise ConfigError("--output", args.output, "a new file (it exists)")
+    write_text_atomically(args.output, text, "writing the example")
+    if examples.is_script(name):
+        os.chmod(args.output, 0o755)
+    print(f"{args.output}: {name}", file=sys.stderr)
+    return EXIT_OK
 
 
 def cmd_salvage(args) -> int:
