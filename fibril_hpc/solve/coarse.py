@@ -178,12 +178,22 @@ class TwoLevelPreconditioner(CoarseLevel):
         if self._valid and np.array_equal(att, self._att):
             return
         self.updates += 1
+        ng, m = self.ng, self.m
+        # only pillars whose attached elements changed get new weights: Z_g and W_g depend on
+        # pillar g's set alone, and recomputing the others can move them by an ulp (the block
+        # products' rounding depends on memory alignment), which would be a spurious update
+        moved = np.arange(ng) if not self._valid else np.flatnonzero(
+            (att != self._att).reshape(ng, m).any(axis=1))
         self._att[:] = att
         ones = (att != 0).astype(np.float64)
-        self.block_jacobi.apply(ones, att, self._w)           # Z = M^-1 1_S
-        W = self._w.reshape(self.ng, self.m).sum(axis=1)
+        z = np.empty_like(self._w)
+        self.block_jacobi.apply(ones, att, z)                 # Z = M^-1 1_S
+        w2 = self._w.reshape(ng, m)
+        w2[moved] = z.reshape(ng, m)[moved]
+        W = self._W.copy()
+        W[moved] = w2[moved].sum(axis=1)
         W[W <= 0.0] = 0.0
-        changed = np.flatnonzero(W != self._W)
+        changed = moved[W[moved] != self._W[moved]]
         n_in = int(np.count_nonzero(W))
         if not self._valid or len(changed) > max(self.MAX_UPDATES_PER_CHANGE, n_in // 8) \
                 or self._since_rebuild + len(changed) > self.REBUILD_EVERY \
