@@ -43,7 +43,7 @@ from ..inputs.config import scene_to_yaml
 from ..inputs.physical import SI_UNITS
 from ..inputs.scene import scene_from_dict
 from ..inputs.limits import MAX_GRID_SIDE
-from . import h5check
+from . import h5check, isolate
 from .files import write_bytes_atomically
 from .results import (
     SI_FIELDS,
@@ -281,6 +281,10 @@ def read_result_file(path: str) -> SimulationResult:
     >>> r = read_result_file("out.h5")                  # doctest: +SKIP
     >>> r.main.F_A, r.main.unloading.F_tilde            # doctest: +SKIP
     """
+    return isolate.run_isolated(_read_result_file, path, what=path)
+
+
+def _read_result_file(path: str) -> SimulationResult:
     fh = h5check.open_file(path)
     try:
         with fh:

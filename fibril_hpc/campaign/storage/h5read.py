@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import h5py
 
 from ...errors import DamagedFileError, StoreError
-from ...io import h5check
+from ...io import h5check, isolate
 from . import integrity
 from .grids import GridIndex
 from .record import BRANCHES, CURVE_KEYS, CURVE_KINDS, OPTIONAL_CURVE_KEYS, layout_problem
@@ -37,7 +37,12 @@ def damaged_error(path: str, exc) -> DamagedFileError:
 
 
 def read_root(path: str) -> dict:
-    """Root attributes of a campaign file (StoreError if it is not one)."""
+    """Root attributes of a campaign file (StoreError if it is not one). Read in a child
+    process that cannot hang the caller (:mod:`fibril_hpc.io.isolate`)."""
+    return isolate.run_isolated(_read_root, path, what=path)
+
+
+def _read_root(path: str) -> dict:
     try:
         with h5py.File(path, "r") as fh:
             attrs = h5check.read_attrs(fh)
@@ -111,7 +116,15 @@ def read_h5_checked(path: str, curves: bool = True, tolerant: bool = False) -> H
     """Every record of the HDF5 file, each checked against its checksum (see
     :mod:`.integrity`). A record that does not match, or cannot be read, is left out and listed
     in ``corrupt``; a damaged file structure raises :class:`DamagedFileError` (one line) unless
-    ``tolerant`` (salvage: take whatever still reads, attribute by attribute)."""
+    ``tolerant`` (salvage: take whatever still reads, attribute by attribute). Read in a child
+    process, so that a file that makes libhdf5 loop is a DamagedFileError, not a hang
+    (:mod:`fibril_hpc.io.isolate`)."""
+    if not os.path.exists(path):
+        return H5Read()
+    return isolate.run_isolated(_read_h5_checked, path, curves, tolerant, what=path)
+
+
+def _read_h5_checked(path: str, curves: bool, tolerant: bool) -> H5Read:
     out = H5Read()
     if not os.path.exists(path):
         return out
