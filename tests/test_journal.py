@@ -14,7 +14,7 @@ import zlib
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from fibril_hpc.campaign.storage import journal as J
@@ -207,13 +207,19 @@ def mutate(frame: bytes, op) -> bytes:
 
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# found by hypothesis: an empty last frame, so the one-byte tail cut lands in the frame before
+@example(ops=[("keep",)] * (N_FRAMES - 1) + [("truncate", 0)], gaps=[b""] * (N_FRAMES + 1),
+         tail=1)
 @given(ops=st.lists(mutation, min_size=N_FRAMES, max_size=N_FRAMES),
        gaps=st.lists(between, min_size=N_FRAMES + 1, max_size=N_FRAMES + 1),
        tail=st.integers(0, 3))
 def test_fuzz_reader_never_raises_nor_invents(ops, gaps, tail):
     data = bytearray(gaps[0])
+    ends = []                                          # where each frame ends in the data
     for frame, op, gap in zip(FRAMES, ops, gaps[1:]):
-        data += mutate(frame, op) + gap
+        data += mutate(frame, op)
+        ends.append(len(data))
+        data += gap
     if tail:
         del data[len(data) - tail:]
     s = J.scan(bytes(data), accept={HASH})            # never raises
@@ -225,7 +231,7 @@ def test_fuzz_reader_never_raises_nor_invents(ops, gaps, tail):
     assert len(keys) == len(set(keys))
     # every frame left untouched (and not cut by the tail) is kept
     for i, op in enumerate(ops):
-        if op[0] == "keep" and (i < N_FRAMES - 1 or len(gaps[-1]) >= tail):
+        if op[0] == "keep" and ends[i] <= len(data):
             assert WRITTEN[i]["key"] in keys
     # the reported stretches never overlap the records returned
     spans = sorted([(a, b) for a, b, _ in s.records] + s.damaged + s.old + s.foreign
