@@ -130,3 +130,43 @@ def test_output_relative_to_yaml_folder_and_override(tmp_path):
     assert load_spec(grid).output == str(sub / "tiny.h5")
     assert load_spec(grid, output="o.h5").output == os.path.abspath("o.h5")
     assert yaml.safe_load(load_spec(grid).resolved_yaml())["k_tilde"] == [1.0, 0.01]
+
+
+@pytest.mark.parametrize("changes", [
+    {},
+    {"d_tilde": [0.5, 2.0, 8.0], "F_P": None, "k_tilde": [float("inf"), 1, 1e-3]},
+    {"scene": {"n_side": 3, "preset": "fast", "solver": {"cg_tol": 1e-9, "fft_threads": 2}},
+     "seeds": [5, 0, 17]},
+    {"scene": {"n_side": 2, "elements_per_diameter": 5, "lattice": "hexagonal", "tip": "sphere",
+               "tip_radius": 2.0}, "sigma_tilde": [0.0, 0.3]},
+])
+def test_fast_enumeration_equals_a_scene_per_job(changes):
+    """A grid's jobs are enumerated from one template (each axis value validated once): every
+    key and every loading path's scene equal those of a validated Scene per job, the contract
+    old campaign files are resumed by."""
+    from fibril_hpc.campaign.plan.spec import job_key
+
+    changes = {k: v for k, v in changes.items() if v is not None}
+    d = {**TINY, **changes}
+    if "d_tilde" in changes:
+        d.pop("F_P")
+    s = spec_from_dict(d, base_dir="/tmp")
+    assert len(s.jobs) == len({j.key for j in s.jobs}) > 0
+    for j in s.jobs:
+        assert j.key == job_key(s.job_scene(j)), j
+    for t in s.tasks():
+        js = t.jobs
+        ref = s.base.replace(k_tilde=js[0].k_tilde, sigma_tilde=js[0].sigma_tilde,
+                             seed=js[0].seed, **{s.preload_kind: tuple(j.preload for j in js)})
+        assert t.scene == ref and t.scene.to_dict() == ref.to_dict()
+
+
+def test_a_million_jobs_is_the_cap_and_a_bad_value_is_still_named():
+    from fibril_hpc.inputs.limits import MAX_JOBS
+
+    assert MAX_JOBS == 10**6
+    with pytest.raises(ConfigError, match="at most 1e\\+06 jobs"):
+        _spec(k_tilde=[10.0**-i for i in range(101)], sigma_tilde=[0.1 * (i + 1) for i in range(100)],
+              F_P=[0.1 * (i + 1) for i in range(10)], seeds=10)
+    with pytest.raises(ConfigError, match="k_tilde"):      # each axis value still checked
+        _spec(k_tilde=[1, 0.01, -3])

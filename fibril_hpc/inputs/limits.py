@@ -34,7 +34,7 @@ from ..solve.factory import prefers_moments
 #: largest grid side (elements) of a scene
 MAX_GRID_SIDE = 8192
 #: most jobs of one campaign grid
-MAX_JOBS = 10_000_000
+MAX_JOBS = 1_000_000
 #: peak bytes per element of the padded FFT grid (41-54 measured, see the module docstring)
 BYTES_PER_FFT_ELEMENT = 72
 #: the interpreter, numba, FFTW and the libraries

@@ -8,6 +8,7 @@ field and the allowed range; nothing else in the package re-checks user input.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 from dataclasses import dataclass
@@ -395,6 +396,23 @@ class Scene:
         if changes.get("n_pillars") is not None and "n_side" not in changes:
             changes["n_side"] = None                # the count replaces the side
         return dataclasses.replace(self, **changes)
+
+    def with_checked_axes(self, **changes) -> Scene:
+        """A copy with campaign axes changed (``k_tilde``, ``sigma_tilde``, ``seed``, ``F_P``,
+        ``d_tilde``) *without* validating again: for a campaign's loading paths, whose values
+        were each validated with this scene already (a Scene per path made the enumeration of
+        a large grid take minutes). Any other field is a ValueError; ``replace`` validates."""
+        bad = set(changes) - {"k_tilde", "sigma_tilde", "seed", "F_P", "d_tilde"}
+        if bad:
+            raise ValueError(f"with_checked_axes changes the campaign axes only, not {sorted(bad)}")
+        if "d_tilde" in changes and "F_P" not in changes:
+            changes["F_P"] = None
+        if "F_P" in changes and "d_tilde" not in changes:
+            changes["d_tilde"] = None
+        out = copy.copy(self)
+        for k, v in changes.items():
+            object.__setattr__(out, k, v)
+        return out
 
     def to_dict(self) -> dict:
         """Plain, YAML/JSON-ready dict of every resolved field (``inf`` kept as a float)."""

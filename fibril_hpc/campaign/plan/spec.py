@@ -63,7 +63,7 @@ KEY_EXCLUDED_SCENE = tuple(f.name for f in fields(Scene) if f.metadata.get("key"
 KEY_EXCLUDED_SOLVER = SolverOptions.of_kind("resource")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Job:
     """One (k_tilde, sigma_tilde, preload, seed) combination."""
 
@@ -190,10 +190,12 @@ class CampaignSpec:
         out = []
         for js in groups.values():
             js = sorted(js, key=lambda j: j.preload)
-            scene = self.base.replace(k_tilde=js[0].k_tilde, sigma_tilde=js[0].sigma_tilde,
-                                      seed=js[0].seed,
-                                      **{self.preload_kind: tuple(j.preload for j in js)},
-                                      **dict(js[0].extra))
+            axes = {"k_tilde": js[0].k_tilde, "sigma_tilde": js[0].sigma_tilde,
+                    "seed": js[0].seed, self.preload_kind: tuple(j.preload for j in js)}
+            # every job's scene was validated when the grid was read; a path's scene differs
+            # from them only in holding several of the validated preloads
+            scene = (self.base.replace(**axes, **dict(js[0].extra)) if js[0].extra
+                     else self.base.with_checked_axes(**axes))
             out.append(Task(tuple(js), scene))
         return out
 
@@ -203,18 +205,82 @@ def campaign_hash_of(keys) -> str:
     return hashlib.sha256("\n".join(sorted(keys)).encode()).hexdigest()
 
 
-def job_key(scene: Scene) -> str:
-    """Stable key of a single-preload scene: fields at their default value are left out, so a
-    field added to Scene later (with a default) does not change existing keys."""
+#: the fields every job key holds whatever their value (the grid's axes)
+KEY_AXES = ("k_tilde", "sigma_tilde", "seed", "d_tilde", "F_P")
+
+
+def key_fields(scene: Scene) -> dict:
+    """What a job key is the hash of: the scene's fields off their default (and the axes
+    :data:`KEY_AXES` always), provenance and resource options left out."""
     d = scene.to_dict()
     dflt = Scene().to_dict()
     solver = {k: v for k, v in d.pop("solver").items()
               if k not in KEY_EXCLUDED_SOLVER and v != dflt["solver"].get(k, object())}
     d = {k: v for k, v in d.items() if k not in KEY_EXCLUDED_SCENE and (
-         k in ("k_tilde", "sigma_tilde", "seed", "d_tilde", "F_P") or v != dflt.get(k, object()))}
+         k in KEY_AXES or v != dflt.get(k, object()))}
     d["solver"] = solver
+    return d
+
+
+def key_of_fields(d: dict) -> str:
+    """The job key of :func:`key_fields`' mapping."""
     text = json.dumps(d, sort_keys=True, allow_nan=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def job_key(scene: Scene) -> str:
+    """Stable key of a single-preload scene: fields at their default value are left out, so a
+    field added to Scene later (with a default) does not change existing keys."""
+    return key_of_fields(key_fields(scene))
+
+
+#: jobs of a grid whose keys are checked against the per-job path (:func:`_fast_jobs`)
+KEY_SAMPLE = 64
+
+
+def _fast_jobs(spec: CampaignSpec, ks, ss, seeds, pre, kind) -> list | None:
+    """The jobs of a grid without a sweep, each axis value validated once and every key made
+    from one template (a job's scene differs from the first job's only in the axes, and its key
+    mapping only in their entries): some 50 times faster than a Scene per job, which made a
+    10^6-job grid take minutes to enumerate. Checked: the keys of :data:`KEY_SAMPLE` jobs spread
+    over the grid (the first and last included) are recomputed the per-job way; None (use the
+    per-job path) if any differs."""
+    first = (ks[0], ss[0], seeds[0], pre[0])
+
+    def scene_of(k, s, seed, p):
+        try:
+            return spec.job_scene(Job("", 0, k, s, kind, p, seed))
+        except ConfigError as exc:          # the combination, exactly as the solver sees it
+            raise ConfigError(exc.field, exc.value, exc.allowed) from None
+
+    template = key_fields(scene_of(*first))
+    vals = []
+    for axis, values in enumerate((ks, ss, seeds, pre)):   # each value with the others' first
+        out = {}
+        for v in values:
+            args = list(first)
+            args[axis] = v
+            d = key_fields(scene_of(*args))
+            out[v] = d[("k_tilde", "sigma_tilde", "seed", kind)[axis]]
+        vals.append(out)
+    kv, sv, seedv, pv = vals
+    d = dict(template)
+    jobs = []
+    for k in ks:
+        d["k_tilde"] = kv[k]
+        for s in ss:
+            d["sigma_tilde"] = sv[s]
+            for seed in seeds:
+                d["seed"] = seedv[seed]
+                for p in pre:
+                    d[kind] = pv[p]
+                    jobs.append(Job(key_of_fields(d), len(jobs), k, s, kind, p, seed, ()))
+    step = max(1, (len(jobs) - 1) // (KEY_SAMPLE - 1))
+    for i in sorted(set(range(0, len(jobs), step)) | {len(jobs) - 1}):
+        j = jobs[i]
+        if job_key(scene_of(j.k_tilde, j.sigma_tilde, j.seed, j.preload)) != j.key:
+            return None
+    return jobs
 
 
 def _values(name, v):
@@ -372,6 +438,11 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         for path in spec.paths():            # validates every path's scene now
             spec.auto_task(path, auto.start[:1])
         return spec
+    if not sweep:
+        jobs = _fast_jobs(spec, ks, ss, seeds, pre, kind)
+        if jobs is not None:
+            spec.jobs = jobs
+            return spec
     files = _sweep_files(sweep, base, base_dir)
     extras = [()]
     for name, values in sweep.items():
