@@ -188,11 +188,13 @@ def simulate(scene: Scene, *, model: Model | None = None,
     SimulationResult
         ``status`` is ``"ok"`` when every preload succeeded, else ``"failed"`` with the reason.
     """
-    # BLAS (the block preconditioner's products, the local cascades' dense solves) gets the
-    # threads the FFT gets, one by default: OpenBLAS would otherwise start one thread per core in
-    # every process, and a campaign runs one process per core (NOTES: 1.4-2.2x the CPU time of a
-    # path for no gain in wall time). Scoped to this call; the caller's limits come back after.
-    with threadpool_limits(limits=scene.solver.fft_threads or 1, user_api="blas"):
+    # BLAS (the block preconditioner's products, the local cascades' dense solves) runs on one
+    # thread, whatever fft_threads says: OpenBLAS would otherwise start one thread per core in
+    # every process (a campaign runs one process per core: 1.4-2.2x the CPU time of a path for no
+    # gain in wall time), and its idle threads spin against the FFT pair's own threads (two
+    # threads for BLAS and FFT made a 36 x 36 scene 0.93x as fast as one; with BLAS on one, 1.33x:
+    # benchmarks/NOTES.md). Scoped to this call; the caller's limits come back after.
+    with threadpool_limits(limits=1, user_api="blas"):
         return _simulate(scene, model, operators, progress)
 
 
@@ -237,6 +239,7 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
         "cg_solves": model.solver.solves - solves0,
         "fft_pairs": model.fft_pairs - pairs0,
         "events": driver.events,
+        "preconditioner": model.solver.precond.kind,
     }
     if isinstance(driver, MachineDriver):
         res.stats.update(jumps=driver.jumps, jump_events=driver.jump_events)

@@ -48,6 +48,22 @@ def test_backends_and_threads_agree(geom):
         np.testing.assert_allclose(u, outs[0], rtol=1e-12, atol=1e-14)
 
 
+@pytest.mark.parametrize("side", [3, 7])
+def test_threaded_column_stage_is_bitwise_the_one_thread_product(side):
+    """With fft_threads > 1 the column blocks are shared out between threads, each with its own
+    plans and buffers: every column's transform is unchanged, so the product must be bitwise
+    that of one thread (a brush of 7 x 7 has more blocks than threads, 3 x 3 few)."""
+    g = build_pillar_grid(side, 0.16, 5, 0.0, 0).geometry
+    p = np.random.default_rng(side).standard_normal(g.n_active)
+    ref = HalfSpace(g, threads=1).apply(p, np.empty_like(p)).copy()
+    for threads in (2, 3, 64):
+        op = HalfSpace(g, threads=threads)
+        for _ in range(3):                          # reused lanes and pool
+            assert np.array_equal(op.apply(p, np.empty_like(p)), ref), threads
+        op.pair.close()
+        assert np.array_equal(op.apply(p, np.empty_like(p)), ref)       # works after close
+
+
 def test_point_loads_equal_the_fft_product(geom):
     op = HalfSpace(geom, threads=1)
     rng = np.random.default_rng(9)
@@ -81,7 +97,10 @@ def test_work_arrays_are_the_owned_buffers(geom):
     op = HalfSpace(geom, threads=1)
     bufs = op.pair.work_arrays()
     assert "rows" not in bufs and all(isinstance(a, np.ndarray) for a in bufs.values())
+    # real_in/out, the row spectra (2), one column lane's three block buffers
     assert len(bufs) == 7 and bufs["real_in"] is op.pair.real_in
+    assert set(HalfSpace(geom, threads=3).pair.work_arrays()) - set(bufs) == {
+        f"lane{i}_{k}" for i in (1, 2) for k in ("col_in", "col_hat", "col_out")}
     assert set(op.work_arrays()) == {"kernel_hat", "index"}
     table = op.table           # built lazily, on first use
     assert op.work_arrays()["table"] is table

@@ -34,6 +34,52 @@ _EFFORT = {"estimate": "FFTW_ESTIMATE", "measure": "FFTW_MEASURE", "patient": "F
 COLUMN_BLOCK = 12
 
 
+class _Lane:
+    """One thread's share of an FFT pair: the active rows ``first:stop`` of the two row stages
+    (r2c and c2r along x, single-threaded plans on those rows), and for the column stage an
+    m x B block buffer (rows off the active ones stay zero), its spectrum and inverse, and
+    single-threaded plans between them."""
+
+    def __init__(self, pair, first: int, stop: int, flags: tuple):
+        import pyfftw
+
+        m, b, w = pair.m, COLUMN_BLOCK, pair.m // 2 + 1
+        rows = slice(first, stop)
+        self.p1 = pyfftw.FFTW(pair.real_in[rows], pair._rows_hat[rows, :w], axes=(1,),
+                              flags=flags, threads=1)
+        self.p4 = pyfftw.FFTW(pair._rows_back[rows, :w], pair.real_out[rows], axes=(1,),
+                              direction="FFTW_BACKWARD", flags=flags + ("FFTW_DESTROY_INPUT",),
+                              threads=1)
+        z = pyfftw.zeros_aligned
+        self.col_in = z((m, b), dtype=np.complex128)
+        self.col_hat = z((m, b), dtype=np.complex128)
+        self.col_out = z((m, b), dtype=np.complex128)
+        # out of place, so the zero rows of the block's input stay zero
+        self.p2 = pyfftw.FFTW(self.col_in, self.col_hat, axes=(0,), flags=flags, threads=1)
+        self.p3 = pyfftw.FFTW(self.col_hat, self.col_out, axes=(0,), direction="FFTW_BACKWARD",
+                              flags=flags, threads=1)
+        # real view (re, im interleaved) for the multiply by the real kernel transform
+        self.hat_ri = self.col_hat.view(np.float64).reshape(m, b, 2)
+        for a in (self.col_in, self.col_hat, self.col_out):
+            a[...] = 0
+
+    def buffers(self) -> dict:
+        """The lane's own arrays (not the real view of its spectrum)."""
+        return {"col_in": self.col_in, "col_hat": self.col_hat, "col_out": self.col_out}
+
+    def run(self, pair, kernel_blocks, first: int, stop: int) -> None:
+        """Blocks ``first`` to ``stop - 1`` of ``pair``'s column stage."""
+        b, rows = COLUMN_BLOCK, pair.rows
+        src, dst = pair._rows_hat, pair._rows_back
+        for i in range(first, stop):
+            cols = slice(i * b, (i + 1) * b)
+            self.col_in[rows] = src[:, cols]
+            self.p2.execute()
+            np.multiply(self.hat_ri, kernel_blocks[i], out=self.hat_ri)
+            self.p3.execute()
+            dst[:, cols] = self.col_out[rows]
+
+
 class FFTPair:
     """Pruned, unnormalised 2-D real convolution on an (m, m) grid.
 
@@ -69,26 +115,20 @@ class FFTPair:
             z = pyfftw.zeros_aligned
             self.real_in = z((r, self.m), dtype=np.float64)
             self._rows_hat = z((r, wp), dtype=np.complex128)
-            self._col_in = z((self.m, b), dtype=np.complex128)     # rows off the R stay zero
-            self._col_hat = z((self.m, b), dtype=np.complex128)
-            self._col_out = z((self.m, b), dtype=np.complex128)
             self._rows_back = z((r, wp), dtype=np.complex128)
             self.real_out = z((r, self.m), dtype=np.float64)
             flags = (_EFFORT[planner],)
-            kw = dict(flags=flags, threads=self.threads)
-            self._p1 = pyfftw.FFTW(self.real_in, self._rows_hat[:, :w], axes=(1,), **kw)
-            # out of place, so the zero rows of the block's input stay zero
-            self._p2 = pyfftw.FFTW(self._col_in, self._col_hat, axes=(0,), **kw)
-            self._p3 = pyfftw.FFTW(self._col_hat, self._col_out, axes=(0,),
-                                   direction="FFTW_BACKWARD", **kw)
-            # real view (re, im interleaved) for the multiply by the real kernel transform
-            self._hat_ri = self._col_hat.view(np.float64).reshape(self.m, b, 2)
-            self._p4 = pyfftw.FFTW(self._rows_back[:, :w], self.real_out, axes=(1,),
-                                   direction="FFTW_BACKWARD",
-                                   flags=flags + ("FFTW_DESTROY_INPUT",), threads=self.threads)
+            # every plan is single-threaded: with fft_threads = T > 1 the pair's work is shared
+            # out between T lanes in threads of our own (rows of the two row stages, blocks of
+            # the column stage). FFTW's own threads (OpenMP in the pyFFTW wheels) spin between
+            # the many short transforms and made the default scene 3-4x slower
+            # (benchmarks/NOTES.md)
+            n_lanes = max(1, min(self.threads, self.n_blocks, r))
+            cuts = np.linspace(0, r, n_lanes + 1).round().astype(int)
+            self._lanes = [_Lane(self, int(a), int(e), flags) for a, e in zip(cuts[:-1], cuts[1:])]
+            self._pool = None
             # planning with MEASURE/PATIENT scribbles on the arrays: zero them afterwards
-            for a in (self.real_in, self._rows_hat, self._col_in, self._col_hat, self._col_out,
-                      self._rows_back, self.real_out):
+            for a in (self.real_in, self._rows_hat, self._rows_back, self.real_out):
                 a[...] = 0
         elif backend == "numpy":
             self.real_in = np.zeros((r, self.m))
@@ -99,10 +139,13 @@ class FFTPair:
 
     def work_arrays(self) -> dict:
         """The buffers this pair owns, by name (for read-only use, e.g. memory accounting): not
-        the real view of its own block buffer (``_hat_ri``) nor the caller's kernel transform
-        (``_kernel_src``); the blocked real kernel copy ``_kernel_blocks`` once it exists."""
-        skip = ("rows", "_hat_ri", "_kernel_src")
-        return {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k not in skip}
+        the caller's kernel transform (``_kernel_src``); the blocked real kernel copy
+        ``_kernel_blocks`` once it exists; each column lane's block buffers."""
+        skip = ("rows", "_kernel_src")
+        out = {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k not in skip}
+        for i, lane in enumerate(getattr(self, "_lanes", ())):
+            out.update({f"lane{i}_{k}": v for k, v in lane.buffers().items()})
+        return out
 
     def stages(self, kernel_hat: np.ndarray) -> dict:
         """The stages of one pyfftw product, in order, as named callables (for timing them one by
@@ -110,9 +153,9 @@ class FFTPair:
         if self.backend != "pyfftw":
             raise ValueError("stages exist for the pyfftw backend only")
         return {
-            "p1 r2c rows": self._p1.execute,
+            "p1 r2c rows": self._rows_forward,
             "column blocks": lambda: self._columns(self._real_kernel(kernel_hat)),
-            "p4 c2r rows": self._p4.execute,
+            "p4 c2r rows": self._rows_backward,
         }
 
     def _real_kernel(self, kernel_hat: np.ndarray) -> np.ndarray:
@@ -129,15 +172,48 @@ class FFTPair:
         return self._kernel_blocks
 
     def _columns(self, kernel_blocks) -> None:
-        """The column stage, block by block: _rows_hat -> _rows_back."""
-        b, rows = COLUMN_BLOCK, self.rows
-        for i in range(self.n_blocks):
-            cols = slice(i * b, (i + 1) * b)
-            self._col_in[rows] = self._rows_hat[:, cols]
-            self._p2.execute()
-            np.multiply(self._hat_ri, kernel_blocks[i], out=self._hat_ri)
-            self._p3.execute()
-            self._rows_back[:, cols] = self._col_out[rows]
+        """The column stage, block by block: _rows_hat -> _rows_back. With several lanes the
+        blocks are split into contiguous runs, one per thread (the plans release the GIL); each
+        column's transform is the same either way."""
+        lanes = self._lanes
+        if len(lanes) == 1:
+            lanes[0].run(self, kernel_blocks, 0, self.n_blocks)
+            return
+        edges = np.linspace(0, self.n_blocks, len(lanes) + 1).round().astype(int)
+        self._in_lanes([(lane.run, (self, kernel_blocks, int(a), int(e)))
+                        for lane, a, e in zip(lanes, edges[:-1], edges[1:])])
+
+    def _rows_forward(self) -> None:
+        """r2c along x of the active rows, shared between the lanes."""
+        self._in_lanes([(lane.p1.execute, ()) for lane in self._lanes])
+
+    def _rows_backward(self) -> None:
+        """c2r along x of the active rows, shared between the lanes."""
+        self._in_lanes([(lane.p4.execute, ()) for lane in self._lanes])
+
+    def _in_lanes(self, calls) -> None:
+        """Run ``calls`` [(fn, args)], one per lane: in this thread for one lane, else in the
+        pair's own thread pool, waiting for all."""
+        if len(calls) == 1:
+            fn, args = calls[0]
+            fn(*args)
+            return
+        if self._pool is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            self._pool = ThreadPoolExecutor(len(calls) - 1, thread_name_prefix="fibril-fft")
+        futures = [self._pool.submit(fn, *args) for fn, args in calls[1:]]
+        fn, args = calls[0]
+        fn(*args)                               # the first share in the calling thread
+        for f in futures:
+            f.result()
+
+    def close(self) -> None:
+        """Stop the column stage's worker threads (if any); the pair still works afterwards
+        (they start again on the next product)."""
+        if getattr(self, "_pool", None) is not None:
+            self._pool.shutdown(wait=True)
+            self._pool = None
 
     def convolve(self, kernel_hat: np.ndarray) -> None:
         """real_out <- rows of irfft2(rfft2(padded real_in) * kernel_hat), unnormalised.
@@ -145,9 +221,9 @@ class FFTPair:
         ``kernel_hat`` is real, shape (m, m//2 + 1); it is multiplied into the real and imaginary
         parts as float64 (no complex copy of the kernel per call)."""
         if self.backend == "pyfftw":
-            self._p1.execute()
+            self._rows_forward()
             self._columns(self._real_kernel(kernel_hat))
-            self._p4.execute()
+            self._rows_backward()
         else:
             self._padded[self.rows] = self.real_in
             spec = np.fft.rfft2(self._padded)

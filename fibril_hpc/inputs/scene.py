@@ -92,8 +92,8 @@ class SolverOptions:
         Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
         simulation with that reason (campaigns use it to turn a runaway job into a failed record).
     preconditioner : str
-        ``"auto"`` (default: for at most 1024 pillars of one footprint ``"moments"`` where the
-        FFT is dear enough (``solve.factory.prefers_moments``), else ``"two_level"``; ``"block"``
+        ``"auto"`` (default: for at most 1296 pillars (36 x 36) of one footprint ``"moments"``
+        where the FFT is dear enough (``solve.factory.prefers_moments``), else ``"two_level"``; ``"block"``
         for more pillars; else ``"diagonal"``), ``"block"`` (exact per-pillar block Jacobi),
         ``"diagonal"`` (c0 I + alpha B B^T), ``"two_level"`` (block Jacobi plus a coarse level
         of one force per pillar in contact, :mod:`fibril_hpc.solve.coarse`) or ``"moments"``
@@ -105,10 +105,12 @@ class SolverOptions:
     fft_backend : str
         ``"pyfftw"`` (default) or ``"numpy"`` (reference/comparison).
     fft_threads : int or None
-        Threads of the FFT and of BLAS; ``None`` (default) means one: more threads cost more
-        CPU time than they save on the row-pruned pair and the preconditioner's small products
-        (``benchmarks/NOTES.md``), so they are opt-in (e.g. ``fibril-campaign --fft-threads``).
-        MPI campaigns run one single-threaded job per rank. The numba kernels are serial.
+        Threads of the FFT pair; ``None`` (default) means one. With T > 1 each pair's rows and
+        column blocks are shared between T threads (bitwise the same product): worth it for a
+        lone big scene (36 x 36: 1.33x in wall time on two threads) and not for small ones
+        (the default 18 x 18 scene: 1.02x), whose time is mostly outside the FFT
+        (``benchmarks/NOTES.md``). MPI campaigns run one single-threaded job per rank. BLAS and
+        the numba kernels run on one thread.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
     cascade : str
