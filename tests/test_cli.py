@@ -66,7 +66,7 @@ def test_hdf5_and_plot(scene_file, tmp_path, capsys):
     ("solver: {cg_tol: 2}\n", "solver.cg_tol"), ("- 1\n- 2\n", "scene"),
     ("preset: best\n", "preset"), ("solver: {criterion: kendall}\n", "solver.criterion"),
     ("tip: rounded\ntip_radius: 0.2\nsolver: {criterion: footprint}\n", "solver.criterion"),
-    ("n_side: 33\nsolver: {preconditioner: two_level}\n", "solver.preconditioner"),
+    ("n_side: 37\nsolver: {preconditioner: two_level}\n", "solver.preconditioner"),
 ])
 def test_bad_input_one_line_exit_2_nothing_written(tmp_path, content, field):
     bad = tmp_path / "bad.yaml"

@@ -43,6 +43,19 @@ def test_auto_is_two_level_up_to_max_pillars_then_block():
     assert Scene(n_side=side + 1).solver.preconditioner == "auto"
     with pytest.raises(ValueError, match="two_level"):
         make_preconditioner(geom, 0.1, 1.0, "two_level")
+    # each preconditioner names itself by its option value; simulate reports auto's choice
+    for k in (TwoLevelPreconditioner, BlockPreconditioner, MomentTwoLevelPreconditioner):
+        assert Scene(n_side=2, solver={"preconditioner": k.kind}).solver.preconditioner == k.kind
+
+
+def test_simulate_reports_the_preconditioner_auto_chose():
+    from fibril_hpc import Scene, simulate
+
+    r = simulate(Scene(n_side=2, elements_per_diameter=5, F_P=(1.0,)))
+    assert r.stats["preconditioner"] in ("two_level", "moments")
+    r = simulate(Scene(n_side=2, elements_per_diameter=5, F_P=(1.0,),
+                       solver={"preconditioner": "block"}))
+    assert r.stats["preconditioner"] == "block"
 
 
 def as_matrix(pc, geom, att):

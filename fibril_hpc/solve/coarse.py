@@ -34,8 +34,10 @@ from ..elastic.greens import love
 from .precond import BlockPreconditioner
 
 #: most pillars of a two-level scene (the coarse inverse is dense, ng x ng); ``auto`` falls back
-#: to block Jacobi above it
-MAX_PILLARS = 1024
+#: to block Jacobi above it. 36 x 36: measured to pay there (13 269 FFT pairs and 409 CPU s
+#: against block Jacobi's 33 138 and 570 s on the default-preset 36 x 36 scene,
+#: benchmarks/NOTES.md); larger brushes are not measured and keep block Jacobi
+MAX_PILLARS = 1296
 
 
 class CoarseLevel:
@@ -137,6 +139,9 @@ class CoarseLevel:
 
 class TwoLevelPreconditioner(CoarseLevel):
     """Block Jacobi plus a coarse pillar-force correction (see the module docstring)."""
+
+    #: the ``solver.preconditioner`` value that builds this one (``auto`` reports its choice)
+    kind = "two_level"
 
     #: rank-one updates of F^-1 between two dense rebuilds (bounds the rounding they accumulate)
     REBUILD_EVERY = 64

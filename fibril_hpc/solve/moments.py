@@ -79,6 +79,9 @@ def multipole_couplings(cx, cy, h) -> np.ndarray:
 class MomentTwoLevelPreconditioner(CoarseLevel):
     """Block Jacobi plus a coarse level of three moments per pillar (module docstring)."""
 
+    #: the ``solver.preconditioner`` value that builds this one (``auto`` reports its choice)
+    kind = "moments"
+
     #: pillar updates of F^-1 between two dense rebuilds (bounds the rounding they accumulate)
     REBUILD_EVERY = 256
     #: a change moving more pillars than this (and than an eighth of those in contact) rebuilds

@@ -34,6 +34,9 @@ class DiagonalPreconditioner:
     Works on any geometry (docs/model.md §4).
     """
 
+    #: the ``solver.preconditioner`` value that builds this one (``auto`` reports its choice)
+    kind = "diagonal"
+
     def __init__(self, geometry, alpha: float, c0: float):
         self.starts = geometry.starts
         self.alpha = alpha if isinstance(alpha, np.ndarray) else float(alpha)
@@ -86,6 +89,9 @@ class BlockPreconditioner:
 
     Needs groups that share one footprint (docs/model.md §4).
     """
+
+    #: the ``solver.preconditioner`` value that builds this one (``auto`` reports its choice)
+    kind = "block"
 
     def __init__(self, geometry, alpha: float, cache_bytes: int = 64 * 2**20):
         m = uniform_footprint(geometry)
