@@ -85,7 +85,7 @@ def main(argv=None) -> int:
     spec = load_spec(args.grid)
     if args.preset is not None:
         from fibril_hpc.inputs.presets import PRESET_NAMES, preset_values
-        from fibril_hpc.inputs.scene import SolverOptions
+        from fibril_hpc.inputs.options import SolverOptions
 
         if args.preset not in PRESET_NAMES:
             print(f"paper_cost: --preset must be one of {PRESET_NAMES}", file=sys.stderr)

@@ -18,7 +18,8 @@ from ._version import __version__
 from .api import simulate
 from .campaign.analysis.data import load_campaign
 from .errors import ConfigError, FibrilError, NoConvergenceError, StoreError
-from .inputs.scene import Scene, SolverOptions, scene_from_dict
+from .inputs.options import SolverOptions
+from .inputs.scene import Scene, scene_from_dict
 from .io.store import read_result_file
 
 __all__ = ["Scene", "SolverOptions", "scene_from_dict", "simulate", "ConfigError",

@@ -19,7 +19,8 @@ from .geometry.grid import Geometry, Lattice, PillarGrid, build_pillar_grid
 from .geometry.scaling import Scaling, critical_stress
 from .geometry.tips import tip_offsets
 from .inputs.heights import pillar_stiffness, setbacks
-from .inputs.scene import Scene, SolverOptions
+from .inputs.options import SolverOptions
+from .inputs.scene import Scene
 from .solve.solver import ConstrainedCG
 
 

@@ -4,7 +4,7 @@ import pytest
 
 os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(os.path.dirname(__file__), "..", ".numba_cache"))
 
-from fibril_hpc.inputs.scene import SolverOptions  # noqa: E402
+from fibril_hpc.inputs.options import SolverOptions  # noqa: E402
 
 
 @pytest.fixture

@@ -169,7 +169,7 @@ def test_single_element_in_contact_is_exact():
     geom = sphere(R, 4, h)
     ring_gap = h * h / (2 * R)
     sc = Scaling(phi=1.0, work_of_adhesion=1.0, area=1.0)
-    from fibril_hpc.inputs.scene import SolverOptions
+    from fibril_hpc.inputs.options import SolverOptions
 
     m = build_model(geom, k=math.inf, adhesion=True, work_of_adhesion=1.0, scaling=sc,
                     options=SolverOptions(fft_threads=1, load_event_merge=0.0))

@@ -52,7 +52,7 @@ class HalfSpace:
 
     @classmethod
     def from_options(cls, geometry, options, *, m: int | None = None) -> HalfSpace:
-        """The operator a :class:`~fibril_hpc.inputs.scene.SolverOptions` asks for."""
+        """The operator a :class:`~fibril_hpc.inputs.options.SolverOptions` asks for."""
         return cls(geometry, **options.operator_settings(), m=m)
 
     def work_arrays(self) -> dict:

@@ -1,7 +1,7 @@
 """What a user gives: the scene and solver options, their YAML form, presets, ranges, limits.
 
-Owns :mod:`.scene` (frozen, validated :class:`~.scene.Scene` and
-:class:`~.scene.SolverOptions`), :mod:`.config` (YAML in and out, built-in scenes),
+Owns :mod:`.scene` (the frozen, validated :class:`~.scene.Scene`), :mod:`.options` (its
+:class:`~.options.SolverOptions`), :mod:`.config` (YAML in and out, built-in scenes),
 :mod:`.presets` (named accuracy presets), :mod:`.ranges` (declarative field ranges that check
 and write the error text), :mod:`.heights` (pillar height and stiffness laws, measured files)
 and :mod:`.limits` (grid size, memory and job-count checks before any work starts).

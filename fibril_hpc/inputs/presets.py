@@ -7,7 +7,7 @@ The preset fills only what the scene does not give:
 * ``elements_per_diameter`` when it is not given (``None``);
 * the solver knobs when ``solver`` is not given, or is a mapping of the knobs to change (YAML
   ``solver: {fft_threads: 1}``; the mapping's keys override the preset's values, exactly).
-  A :class:`~fibril_hpc.inputs.scene.SolverOptions` object is a complete set of knobs and is used as
+  A :class:`~fibril_hpc.inputs.options.SolverOptions` object is a complete set of knobs and is used as
   given; ``SolverOptions.from_preset`` builds one from a preset with overrides.
 
 Presets set only ``accuracy`` options (``SolverOptions.of_kind("accuracy")``); resource and

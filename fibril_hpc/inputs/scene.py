@@ -1,4 +1,4 @@
-"""The physical scene and the solver options: frozen, validated dataclasses.
+"""The physical scene: a frozen, validated dataclass (its solver options: :mod:`.options`).
 
 Every input is dimensionless (see docs/model.md and :mod:`fibril_hpc.geometry.scaling`). One name per
 quantity: the YAML key, the dataclass field, the HDF5 attribute and the JSON key are the same.
@@ -20,36 +20,15 @@ from ..solve.coarse import MAX_PILLARS
 from . import heights as _heights
 from . import physical as _physical
 from .limits import check_grid
+from .options import SOLVER_FIELDS, SolverOptions
 from .presets import DEFAULT_PRESET, PRESET_NAMES, preset_values
 from .ranges import Choice, Flag, Int, Real, check_fields
 
 #: Pillars per side when neither n_side nor n_pillars is given.
 DEFAULT_N_SIDE = 18
 
-#: Detachment criteria (``SolverOptions.criterion``; :mod:`fibril_hpc.path.criterion`).
-CRITERIA = ("mesh", "footprint")
-
-#: The direction solve's tolerance over ``cg_tol`` when ``solver.direction_tol`` is not given.
-DIRECTION_SLACK = 100.0
-
 #: Largest filling ratio a square lattice of discs can hold (touching discs).
 PHI_MAX = math.pi / 4
-
-#: What a solver option decides (``SolverOptions`` field metadata ``kind``): ``accuracy``
-#: options define the result (presets set them), ``backend`` ones how it is computed (equal to
-#: rounding; in job keys too, as keys promise bitwise identity), ``resource`` ones only cap or
-#: spend resources (left out of job keys).
-OPTION_KINDS = ("accuracy", "backend", "resource")
-
-
-def _opt(default, kind: str, rng, operator_arg: str = "", extra: bool = False):
-    meta = {"kind": kind, "range": rng}
-    if operator_arg:
-        meta["operator_arg"] = operator_arg     # the HalfSpace argument this option sets
-    if extra:
-        meta["extra"] = True    # stored in the scene text only off its default (Scene.to_dict)
-    return dataclasses.field(default=default, metadata=meta)
-
 
 def _in(default, rng, many: bool = False):
     return dataclasses.field(default=default, metadata={"range": rng, "many": many})
@@ -60,139 +39,6 @@ def _lab(default, rng, key: bool = True):
     from its default, so every scene written before it existed keeps its text and key."""
     return dataclasses.field(default=default, metadata={"range": rng, "many": False,
                                                         "extra": True, "key": key})
-
-
-@dataclass(frozen=True)
-class SolverOptions:
-    """Numerical knobs; every one has a documented default.
-
-    Attributes
-    ----------
-    cg_tol : float
-        Relative tolerance of the constrained CG, measured against the half-space part of the
-        operator: ``||r|| <= cg_tol * ||K p||`` (docs/model.md §4: stays accurate for soft springs).
-        Range (0, 1e-2]. Default 1e-8.
-    cg_maxiter : int
-        Iteration cap of one CG solve; exceeding it is a :class:`NoConvergenceError`. Default 5000.
-    relax_tol : float
-        CG tolerance of the intermediate passes of a detachment/attachment cascade at fixed d; a
-        set that is stable at it is confirmed at ``cg_tol`` before the cascade ends. Setting it
-        equal to ``cg_tol`` (or below) solves every pass fully. Range (0, 1e-2]. Default 1e-5.
-    event_merge : float
-        While unloading, contact-set events whose plate displacement lies within this distance (in
-        units of d_c) after the first one are handled as one batch: the path moves to the last of
-        them before the set is relaxed. The force just before the first event is always recorded
-        exactly. Range [0, 1]. Default 1e-4.
-    load_event_merge : float
-        The same while loading, where it hardly changes F_A (the set at the preload is what
-        matters) but saves many solves. Range [0, 1]. Default 1e-2.
-    max_events : int
-        Cap on contact-set events along one curve (a runaway guard). Default 1_000_000.
-    max_wall_s : float or None
-        Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
-        simulation with that reason (campaigns use it to turn a runaway job into a failed record).
-    preconditioner : str
-        ``"auto"`` (default: for at most 1296 pillars (36 x 36) of one footprint ``"moments"``
-        where the FFT is dear enough (``solve.factory.prefers_moments``), else ``"two_level"``; ``"block"``
-        for more pillars; else ``"diagonal"``), ``"block"`` (exact per-pillar block Jacobi),
-        ``"diagonal"`` (c0 I + alpha B B^T), ``"two_level"`` (block Jacobi plus a coarse level
-        of one force per pillar in contact, :mod:`fibril_hpc.solve.coarse`) or ``"moments"``
-        (three coarse unknowns per pillar, force and tilts; :mod:`fibril_hpc.solve.moments`).
-        All reach the same answer; ``"auto"`` keeps its name in scene texts and job keys.
-    detach_policy : str
-        ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``
-        (only the most supercritical element of each pillar per pass). Default ``"all"``.
-    fft_backend : str
-        ``"pyfftw"`` (default) or ``"numpy"`` (reference/comparison).
-    fft_threads : int or None
-        Threads of the FFT pair; ``None`` (default) means one. With T > 1 each pair's rows and
-        column blocks are shared between T threads (bitwise the same product): worth it for a
-        lone big scene (36 x 36: 1.33x in wall time on two threads) and not for small ones
-        (the default 18 x 18 scene: 1.02x), whose time is mostly outside the FFT
-        (``benchmarks/NOTES.md``). MPI campaigns run one single-threaded job per rank. BLAS and
-        the numba kernels run on one thread.
-    fft_planner : str
-        FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
-    cascade : str
-        How a detachment/attachment cascade at fixed d is solved (does not define the result:
-        both reach the same fixed point, tested): ``"local"`` (default: the pillars whose set
-        changed are solved directly with the rest of the grid held, then one global solve
-        confirms) or ``"global"`` (the reference: a global solve per pass).
-    criterion : str
-        Detachment criterion (docs/model.md §5): ``"mesh"`` (default: an element of side h
-        detaches at sigma_c = sqrt(E* dgamma/(kappa h))) or ``"footprint"`` (sigma_c scaled by
-        one factor per pillar footprint and mesh, chosen so that one isolated rigid flat pillar of
-        that footprint pulls off at exactly Kendall's force; :mod:`fibril_hpc.path.criterion`). Flat
-        tips only. Stored in the scene text, and part of job keys, only off its default.
-    direction_tol : float or None
-        Relative CG tolerance of the direction solve p1 = A^-1 1_S on each new contact set
-        (docs/model.md §6). ``None`` (default): ``DIRECTION_SLACK`` (100) times ``cg_tol``, at
-        most 1e-2. The state at every event is solved at ``cg_tol``; the direction only carries it
-        to the next event, so its error moves the located events and the forces recorded just
-        before them by about ``direction_tol`` times the step, never the relaxed states
-        (measured on the default scene: F~_A within 2e-9 of the ``cg_tol`` direction, 1.17-1.19x
-        fewer FFT pairs; benchmarks/NOTES.md §21). Range (0, 1e-2]. Stored in the scene text, and
-        part of job keys, only off its default.
-    """
-
-    cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
-    cg_maxiter: int = _opt(5000, "accuracy", Int(1, 10**7))
-    relax_tol: float = _opt(1e-5, "accuracy", Real(0, 1e-2, lo_open=True))
-    event_merge: float = _opt(1e-4, "accuracy", Real(0, 1))
-    load_event_merge: float = _opt(1e-2, "accuracy", Real(0, 1))
-    max_events: int = _opt(1_000_000, "resource", Int(1, 10**9))
-    max_wall_s: float | None = _opt(None, "resource", Real(0, lo_open=True, none="null"))
-    preconditioner: str = _opt("auto", "accuracy",
-                               Choice(("auto", "block", "diagonal", "two_level", "moments")))
-    detach_policy: str = _opt("all", "accuracy", Choice(("all", "worst")))
-    fft_backend: str = _opt("pyfftw", "backend", Choice(("pyfftw", "numpy")), "backend")
-    fft_threads: int | None = _opt(None, "resource", Int(1, 1024, none="null (one thread)"),
-                                   "threads")
-    fft_planner: str = _opt("estimate", "backend", Choice(("estimate", "measure", "patient")),
-                            "planner")
-    cascade: str = _opt("local", "backend", Choice(("local", "global")))
-    criterion: str = _opt("mesh", "accuracy", Choice(CRITERIA), extra=True)
-    direction_tol: float | None = _opt(None, "accuracy",
-                                       Real(0, 1e-2, lo_open=True,
-                                            none=f"null ({DIRECTION_SLACK:g} x cg_tol)"),
-                                       extra=True)
-
-    def __post_init__(self):
-        check_fields(self, "solver.")
-
-    @classmethod
-    def from_preset(cls, name: str = DEFAULT_PRESET, **overrides) -> SolverOptions:
-        """The options of an accuracy preset (:mod:`fibril_hpc.inputs.presets`) with explicit overrides."""
-        return cls(**{**preset_values(name)["solver"], **overrides})
-
-    @classmethod
-    def of_kind(cls, kind: str) -> tuple:
-        """Names of the options of one kind (see :data:`OPTION_KINDS`), in field order."""
-        return tuple(f.name for f in dataclasses.fields(cls) if f.metadata["kind"] == kind)
-
-    def operator_settings(self) -> dict:
-        """The keyword arguments of :class:`~fibril_hpc.elastic.halfspace.HalfSpace` these options set
-        (``fft_threads`` resolved): what an operator, and so an operator cache, depends on."""
-        return {f.metadata["operator_arg"]: (self.threads if f.name == "fft_threads"
-                                             else getattr(self, f.name))
-                for f in dataclasses.fields(self) if "operator_arg" in f.metadata}
-
-    @property
-    def direction_tolerance(self) -> float:
-        """Resolved tolerance of the direction solve: ``direction_tol``, else
-        ``DIRECTION_SLACK * cg_tol`` capped at 1e-2 (see the attribute's docs)."""
-        if self.direction_tol is not None:
-            return self.direction_tol
-        return min(1e-2, DIRECTION_SLACK * self.cg_tol)
-
-    @property
-    def threads(self) -> int:
-        """Resolved FFT thread count: ``fft_threads``, else 1 (see the attribute's docs)."""
-        return 1 if self.fft_threads is None else self.fft_threads
-
-    def replace(self, **changes) -> SolverOptions:
-        """A copy with options changed (validated again)."""
-        return dataclasses.replace(self, **changes)
 
 
 @dataclass(frozen=True)
@@ -437,7 +283,6 @@ class Scene:
 
 
 SCENE_FIELDS = tuple(f.name for f in dataclasses.fields(Scene))
-SOLVER_FIELDS = tuple(f.name for f in dataclasses.fields(SolverOptions))
 
 
 def scene_from_dict(data: dict, *, where: str = "") -> Scene:
