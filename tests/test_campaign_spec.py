@@ -144,7 +144,7 @@ def test_fast_enumeration_equals_a_scene_per_job(changes):
     """A grid's jobs are enumerated from one template (each axis value validated once): every
     key and every loading path's scene equal those of a validated Scene per job, the contract
     old campaign files are resumed by."""
-    from fibril_hpc.campaign.plan.spec import job_key
+    from fibril_hpc.campaign.plan.keys import job_key
 
     changes = {k: v for k, v in changes.items() if v is not None}
     d = {**TINY, **changes}

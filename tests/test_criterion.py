@@ -8,7 +8,7 @@ import pytest
 
 from fibril_hpc import Scene, simulate
 from fibril_hpc.api import calibrate
-from fibril_hpc.campaign.plan.spec import job_key
+from fibril_hpc.campaign.plan.keys import job_key
 from fibril_hpc.elastic.analytic import single_pillar_F_A
 from fibril_hpc.errors import ConfigError
 from fibril_hpc.geometry.scaling import critical_stress

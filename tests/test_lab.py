@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from fibril_hpc import Scene, simulate
-from fibril_hpc.campaign.plan.spec import job_key, spec_from_dict
+from fibril_hpc.campaign.plan.keys import job_key
+from fibril_hpc.campaign.plan.spec import spec_from_dict
 from fibril_hpc.cli.run import main as run_main
 from fibril_hpc.elastic import analytic
 from fibril_hpc.errors import ConfigError

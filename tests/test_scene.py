@@ -71,7 +71,7 @@ def test_one_range_gives_the_check_and_the_text():
 
 
 def test_option_kinds_decide_keys_presets_and_operators():
-    from fibril_hpc.campaign.plan.spec import KEY_EXCLUDED_SOLVER
+    from fibril_hpc.campaign.plan.keys import KEY_EXCLUDED_SOLVER
     from fibril_hpc.inputs.presets import PRESETS
 
     # the job-key contract of existing campaign files: exactly these are left out

@@ -34,8 +34,6 @@ keys: two grids with the same set of jobs have the same hash.
 
 from __future__ import annotations
 
-import hashlib
-import json
 import os
 from dataclasses import dataclass, field, fields
 
@@ -48,19 +46,16 @@ from ...inputs.heights import read_file as read_height_file
 from ...inputs.limits import check_job_count
 from ...inputs.physical import grid_values
 from ...inputs.ranges import as_float, range_of
-from ...inputs.scene import Scene, SolverOptions, scene_from_dict
+from ...inputs.scene import Scene, scene_from_dict
 from .auto import parse, settings_hash
+from .keys import campaign_hash_of, job_key, key_fields, key_of_fields
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
             "group_preloads", "description", "sweep", "k", "sigma")
 #: scene fields a grid may sweep under ``sweep:`` (the lab fields of :class:`Scene`)
 SWEEPABLE = tuple(f.name for f in fields(Scene) if f.metadata.get("extra") and f.metadata["key"])
-#: scene fields that never enter a job key (provenance only, e.g. a height file's name)
-KEY_EXCLUDED_SCENE = tuple(f.name for f in fields(Scene) if f.metadata.get("key") is False)
-#: solver options that limit resources but do not define a result (left out of job keys):
-#: the ``resource`` options of :class:`~fibril_hpc.inputs.scene.SolverOptions`
-KEY_EXCLUDED_SOLVER = SolverOptions.of_kind("resource")
+
 
 
 @dataclass(frozen=True, slots=True)
@@ -198,40 +193,6 @@ class CampaignSpec:
                      else self.base.with_checked_axes(**axes))
             out.append(Task(tuple(js), scene))
         return out
-
-
-def campaign_hash_of(keys) -> str:
-    """SHA-256 (hex) of a set of job keys, independent of their order."""
-    return hashlib.sha256("\n".join(sorted(keys)).encode()).hexdigest()
-
-
-#: the fields every job key holds whatever their value (the grid's axes)
-KEY_AXES = ("k_tilde", "sigma_tilde", "seed", "d_tilde", "F_P")
-
-
-def key_fields(scene: Scene) -> dict:
-    """What a job key is the hash of: the scene's fields off their default (and the axes
-    :data:`KEY_AXES` always), provenance and resource options left out."""
-    d = scene.to_dict()
-    dflt = Scene().to_dict()
-    solver = {k: v for k, v in d.pop("solver").items()
-              if k not in KEY_EXCLUDED_SOLVER and v != dflt["solver"].get(k, object())}
-    d = {k: v for k, v in d.items() if k not in KEY_EXCLUDED_SCENE and (
-         k in KEY_AXES or v != dflt.get(k, object()))}
-    d["solver"] = solver
-    return d
-
-
-def key_of_fields(d: dict) -> str:
-    """The job key of :func:`key_fields`' mapping."""
-    text = json.dumps(d, sort_keys=True, allow_nan=True)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-def job_key(scene: Scene) -> str:
-    """Stable key of a single-preload scene: fields at their default value are left out, so a
-    field added to Scene later (with a default) does not change existing keys."""
-    return key_of_fields(key_fields(scene))
 
 
 #: jobs of a grid whose keys are checked against the per-job path (:func:`_fast_jobs`)

@@ -18,7 +18,8 @@ import logging
 import yaml
 
 from ...inputs.scene import scene_from_dict
-from ..plan.spec import job_key, spec_from_dict
+from ..plan.keys import job_key
+from ..plan.spec import spec_from_dict
 from .record import layout_problem
 
 log = logging.getLogger(__name__)

@@ -26,7 +26,7 @@ import numpy as np
 import yaml
 
 from ...errors import StoreError
-from ..plan.spec import KEY_EXCLUDED_SOLVER, campaign_hash_of
+from ..plan.keys import KEY_EXCLUDED_SOLVER, campaign_hash_of
 from .record import BRANCHES
 from .store import FORMAT_VERSION, newer, read_snapshot, write_merged
 

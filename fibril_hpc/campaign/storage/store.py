@@ -52,7 +52,7 @@ from ...geometry.grid import Lattice
 from ...io import h5check
 from ...io.files import write_bytes_atomically
 from ...io.results import json_safe, software_versions
-from ..plan.spec import KEY_EXCLUDED_SOLVER
+from ..plan.keys import KEY_EXCLUDED_SOLVER
 from . import integrity
 from . import journal as _journal
 from .h5read import (
