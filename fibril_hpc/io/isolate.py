@@ -103,10 +103,7 @@ def run_isolated(fn, *args, what: str, stall_s: float | None = None, **kwargs):
         _child(fn, args, kwargs, wfd)
     os.close(wfd)
     try:
-        data = _collect(pid, rfd, what, stall_s)
-    except BaseException:                    # a signal or a hang: the child goes too
-        _kill(pid)
-        raise
+        data = _collect(pid, rfd, what, stall_s)        # reaps the child whatever happens
     finally:
         os.close(rfd)
     kind, value = pickle.loads(data)
@@ -116,7 +113,9 @@ def run_isolated(fn, *args, what: str, stall_s: float | None = None, **kwargs):
 
 
 def _collect(pid: int, rfd: int, what: str, stall_s: float) -> bytes:
-    """Everything the child writes to ``rfd``, watching it for stalls; reaps the child."""
+    """Everything the child writes to ``rfd``, watching it for stalls. The child is reaped
+    exactly once: waited for when it has written everything, killed and waited for on a stall or
+    on anything raised here (a signal's exception included)."""
     import selectors
 
     chunks = []
@@ -138,12 +137,13 @@ def _collect(pid: int, rfd: int, what: str, stall_s: float) -> bytes:
                 if count is not None:
                     last_count, last_change = count, now
                 elif now - last_change > 20 * stall_s:      # no /proc: a plain deadline
-                    _kill(pid)
                     raise _hung(what, 20 * stall_s)
                 continue
             if now - last_change > stall_s:
-                _kill(pid)
                 raise _hung(what, stall_s)
+    except BaseException:
+        _kill(pid)
+        raise
     finally:
         sel.close()
     _, status = os.waitpid(pid, 0)
@@ -156,11 +156,9 @@ def _collect(pid: int, rfd: int, what: str, stall_s: float) -> bytes:
 
 
 def _kill(pid: int) -> None:
-    try:
-        os.kill(pid, signal.SIGKILL)
-        os.waitpid(pid, 0)
-    except (ProcessLookupError, ChildProcessError):     # already reaped
-        pass
+    """SIGKILL our own child ``pid`` (not yet reaped, so its PID is still ours) and reap it."""
+    os.kill(pid, signal.SIGKILL)
+    os.waitpid(pid, 0)
 
 
 def _hung(what: str, seconds: float) -> DamagedFileError:
