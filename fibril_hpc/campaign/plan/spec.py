@@ -57,7 +57,6 @@ TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed
 SWEEPABLE = tuple(f.name for f in fields(Scene) if f.metadata.get("extra") and f.metadata["key"])
 
 
-
 @dataclass(frozen=True, slots=True)
 class Job:
     """One (k_tilde, sigma_tilde, preload, seed) combination."""
@@ -208,11 +207,8 @@ def _fast_jobs(spec: CampaignSpec, ks, ss, seeds, pre, kind) -> list | None:
     per-job path) if any differs."""
     first = (ks[0], ss[0], seeds[0], pre[0])
 
-    def scene_of(k, s, seed, p):
-        try:
-            return spec.job_scene(Job("", 0, k, s, kind, p, seed))
-        except ConfigError as exc:          # the combination, exactly as the solver sees it
-            raise ConfigError(exc.field, exc.value, exc.allowed) from None
+    def scene_of(k, s, seed, p):            # validated exactly as the solver will see it
+        return spec.job_scene(Job("", 0, k, s, kind, p, seed))
 
     template = key_fields(scene_of(*first))
     vals = []
