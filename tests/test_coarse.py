@@ -15,36 +15,43 @@ from fibril_hpc.solve.moments import MomentTwoLevelPreconditioner
 TWO_LEVEL_CASES = [c for c in CASES if "preconditioner" not in c]
 
 
-@pytest.mark.parametrize("kind", ["two_level", "moments"])
+@pytest.mark.parametrize("kind", ["two_level", "moments", "lattice"])
 @pytest.mark.parametrize("case", TWO_LEVEL_CASES,
                          ids=lambda c: "-".join(f"{k}={v}" for k, v in c.items()))
 def test_coarse_levels_match_block_jacobi(case, kind):
-    """Both coarse levels (the force one here, the moments of tests/test_moments.py) leave
-    every recorded set, event, let-go d~ and order, F~_A and F~_P as block Jacobi's."""
+    """Every coarse level (the force one here, the moments of tests/test_moments.py, the
+    lattice one of tests/test_lattice_coarse.py) leaves every recorded set, event, let-go d~
+    and order, F~_A and F~_P as block Jacobi's."""
     assert_same_path(run_path("local", preconditioner="block", **case),
                      run_path("local", preconditioner=kind, **case))
 
 
-def test_auto_is_two_level_up_to_max_pillars_then_block():
+def test_auto_levels_by_brush_size():
     from fibril_hpc import Scene
     from fibril_hpc.geometry.grid import build_pillar_grid
     from fibril_hpc.solve.coarse import MAX_PILLARS
     from fibril_hpc.solve.factory import make_preconditioner
+    from fibril_hpc.solve.lattice import LatticeMomentPreconditioner
     from fibril_hpc.solve.precond import BlockPreconditioner
 
     side = int(MAX_PILLARS**0.5)
     assert side**2 == MAX_PILLARS
-    for n_side, kind in ((2, TwoLevelPreconditioner), (side, TwoLevelPreconditioner),
-                         (side + 1, BlockPreconditioner)):
+    # without an FFT size to weigh: the force level on small brushes, the lattice level from
+    # factory.LATTICE_MIN_PILLARS pillars on (no cap)
+    for n_side, kind in ((2, TwoLevelPreconditioner), (19, TwoLevelPreconditioner),
+                         (20, LatticeMomentPreconditioner), (side, LatticeMomentPreconditioner),
+                         (side + 1, LatticeMomentPreconditioner)):
         geom = build_pillar_grid(n_side, 0.16, 2, 0.0, 0).geometry
         assert type(make_preconditioner(geom, 0.1, 1.0, "auto")) is kind
         assert type(make_preconditioner(geom, 0.1, 1.0, "block")) is BlockPreconditioner
-    # above the limit "auto" is accepted silently (block Jacobi), an explicit two_level is not
+    # above the limit "auto" is accepted silently (the lattice level), an explicit two_level
+    # is not
     assert Scene(n_side=side + 1).solver.preconditioner == "auto"
     with pytest.raises(ValueError, match="two_level"):
         make_preconditioner(geom, 0.1, 1.0, "two_level")
     # each preconditioner names itself by its option value; simulate reports auto's choice
-    for k in (TwoLevelPreconditioner, BlockPreconditioner, MomentTwoLevelPreconditioner):
+    for k in (TwoLevelPreconditioner, BlockPreconditioner, MomentTwoLevelPreconditioner,
+              LatticeMomentPreconditioner):
         assert Scene(n_side=2, solver={"preconditioner": k.kind}).solver.preconditioner == k.kind
 
 
@@ -52,7 +59,7 @@ def test_simulate_reports_the_preconditioner_auto_chose():
     from fibril_hpc import Scene, simulate
 
     r = simulate(Scene(n_side=2, elements_per_diameter=5, F_P=(1.0,)))
-    assert r.stats["preconditioner"] in ("two_level", "moments")
+    assert r.stats["preconditioner"] in ("two_level", "lattice")
     r = simulate(Scene(n_side=2, elements_per_diameter=5, F_P=(1.0,),
                        solver={"preconditioner": "block"}))
     assert r.stats["preconditioner"] == "block"
@@ -117,7 +124,7 @@ def test_coarse_levels_cg_match_dense_solve_in_fewer_iterations(small_brush, k_t
     A = K[np.ix_(S, S)] + alpha * (lab[S][:, None] == lab[S][None, :])
     p_ref = np.linalg.solve(A, b[S])
     its = {}
-    for kind in ("block", "two_level", "moments"):
+    for kind in ("block", "two_level", "moments", "lattice"):
         cg = ConstrainedCG(op, alpha, tol=1e-10, maxiter=400, preconditioner=kind)
         p = np.zeros(geom.n_active)
         u = np.zeros(geom.n_active)
@@ -126,6 +133,7 @@ def test_coarse_levels_cg_match_dense_solve_in_fewer_iterations(small_brush, k_t
         assert np.linalg.norm(p[S] - p_ref) / np.linalg.norm(p_ref) < 1e-7
         np.testing.assert_allclose(u, K[:, S] @ p[S], rtol=1e-8, atol=1e-12 * np.abs(u).max())
     assert its["moments"] <= its["two_level"] <= its["block"], its
+    assert its["lattice"] == its["moments"], its
 
 
 def test_two_level_needs_one_footprint():

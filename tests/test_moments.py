@@ -103,8 +103,12 @@ def test_multipole_blocks_approximate_the_exact_couplings():
 
 
 def test_auto_picks_moments_where_the_fft_is_dear():
+    """Where the FFT is dear the moment level pays; ``auto`` applies it by FFT on the pillar
+    lattice (tests/test_lattice_coarse.py) and keeps the dense inverse for pillars off any
+    lattice."""
     from fibril_hpc.geometry.grid import build_pillar_grid
     from fibril_hpc.solve.factory import make_preconditioner, prefers_moments
+    from fibril_hpc.solve.lattice import LatticeMomentPreconditioner
 
     # the fast 18 x 18 scene (FFT 480) keeps the force level; the default one (640), its
     # accurate preset (1280), a 12 x 12 (420) and an 8 x 8 (280) brush take the moments
@@ -113,20 +117,33 @@ def test_auto_picks_moments_where_the_fft_is_dear():
     assert prefers_moments(420, 144) and prefers_moments(280, 64)
     geom = build_pillar_grid(3, 0.16, 6, 0.0, 0).geometry
     assert type(make_preconditioner(geom, 0.1, 1.0, "auto", fft_size=64)) is \
-        MomentTwoLevelPreconditioner
-    assert type(make_preconditioner(geom, 0.1, 1.0, "auto", fft_size=8)) is not \
-        MomentTwoLevelPreconditioner
+        LatticeMomentPreconditioner
+    assert type(make_preconditioner(geom, 0.1, 1.0, "auto", fft_size=8)) not in \
+        (MomentTwoLevelPreconditioner, LatticeMomentPreconditioner)
     assert type(make_preconditioner(geom, 0.1, 1.0, "moments", fft_size=8)) is \
         MomentTwoLevelPreconditioner
+
+    class Scattered:      # the 3 x 3 brush's pillars moved off any common lattice step
+        starts = geom.starts
+        n_groups, n_active, h = geom.n_groups, geom.n_active, geom.h
+        shift = np.repeat(np.array([0, 1, 5, 12, 20, 31, 44, 58, 73]), geom.starts[1])
+        ix = geom.ix + shift
+        iy = geom.iy
+
+    assert type(make_preconditioner(Scattered(), 0.1, 1.0, "auto", fft_size=64)) is \
+        MomentTwoLevelPreconditioner
+    with pytest.raises(ValueError, match="regular lattice"):
+        make_preconditioner(Scattered(), 0.1, 1.0, "lattice")
 
 
 def test_memory_estimate_covers_the_moment_level():
     """limits.moment_bytes bounds what the moment level holds after a solve plus the peak of an
-    update that rebuilds F^-1 (traced), and the scene estimate adds it where auto picks it."""
+    update that rebuilds F^-1 (traced), and the scene estimate adds it where it is asked for."""
     from fibril_hpc import Scene
     from fibril_hpc.inputs.limits import memory_estimate, moment_bytes
 
-    scene = Scene(n_side=8, elements_per_diameter=5, solver={"fft_threads": 1})
+    scene = Scene(n_side=8, elements_per_diameter=5,
+                  solver={"fft_threads": 1, "preconditioner": "moments"})
     kept, peak, geom = traced_coarse_bytes(scene, MomentTwoLevelPreconditioner, 30)
     need = moment_bytes(geom.n_groups, geom.n_active)
     assert 3 * 8 * (3 * geom.n_groups)**2 < kept + peak <= need, (kept, peak, need)

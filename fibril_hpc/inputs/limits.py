@@ -10,10 +10,10 @@ grew by 54 and 41 bytes per m^2 (m = 2160: +253 MB, m = 3840: +607 MB, ``simulat
 preload; ``python benchmarks/scene_memory.py 40 12`` and ``60 14``, 2026-11-23; 59 and 56 before
 the FFT pair's column stage ran in blocks and stopped holding three m x (m/2+1) spectra).
 The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
-:data:`BASE_BYTES`, plus the two-level preconditioner's coarse level where it is used
-(``solver.preconditioner`` ``auto``, ``two_level`` or ``moments`` on at most
-``coarse.MAX_PILLARS`` pillars): :func:`coarse_bytes` or :func:`moment_bytes`, dense
-pillar x pillar arrays that grow with n_side^4, not with the grid.
+:data:`BASE_BYTES`, plus the coarse level of the preconditioner the scene gets
+(``solver.preconditioner``, or what ``auto`` takes): :func:`coarse_bytes` or
+:func:`moment_bytes` for the dense levels (pillar x pillar arrays that grow with n_side^4, not
+with the grid), :func:`lattice_bytes` for the lattice level (linear in pillars and elements).
 It is compared with the memory available now: the least of ``MemAvailable`` of
 ``/proc/meminfo``, what the process's own cgroup (v1 or v2, found through ``/proc/self/cgroup``,
 and each parent) leaves, and the address space left under ``RLIMIT_AS``;
@@ -28,8 +28,7 @@ import resource
 from ..elastic.greens import padded_size
 from ..errors import ConfigError
 from ..geometry.grid import Lattice
-from ..solve.coarse import MAX_PILLARS
-from ..solve.factory import prefers_moments
+from ..solve.factory import auto_kind
 
 #: largest grid side (elements) of a scene
 MAX_GRID_SIDE = 8192
@@ -90,22 +89,49 @@ def moment_bytes(n_pillars: int, n_active: int) -> int:
             + MOMENT_BYTES_PER_ELEMENT * n_active)
 
 
+#: bytes per active element of the lattice level: the unit-moment shapes (3 float64), the
+#: centred coordinates (2), the attached set (uint8), and during an update the moment columns
+#: and their block solves (6)
+LATTICE_BYTES_PER_ELEMENT = 89
+#: float64 values per pillar of the lattice level: D_g and F_gg (18) and the inner CG's vectors
+#: (8 x 3)
+LATTICE_VALUES_PER_PILLAR = 42
+#: nodes of the padded lattice per pillar, at most: twice the lattice each way, the lattice at
+#: most ``lattice.MAX_LATTICE_FILL`` (4) nodes per pillar
+LATTICE_NODES_PER_PILLAR = 16
+#: bytes per padded lattice node: the FFT buffers (2 x 3 real, 2 x 3 half-complex: 96) and the
+#: nine kernel spectra (72), and while the kernels are built their real-space values (72) with
+#: the temporaries of the multipole formula (80)
+LATTICE_BYTES_PER_NODE = 320
+
+
+def lattice_bytes(n_pillars: int, n_active: int) -> int:
+    """Peak bytes of the lattice coarse level (:mod:`fibril_hpc.solve.lattice`) on
+    ``n_pillars`` pillars with ``n_active`` active elements (its block-Jacobi level not
+    included)."""
+    return ((8 * LATTICE_VALUES_PER_PILLAR + LATTICE_NODES_PER_PILLAR * LATTICE_BYTES_PER_NODE)
+            * n_pillars + LATTICE_BYTES_PER_ELEMENT * n_active)
+
+
 def uses_coarse_level(scene) -> bool:
-    """Whether ``scene``'s solver builds a coarse level (``auto``, ``two_level`` or ``moments``
-    on at most ``coarse.MAX_PILLARS`` pillars; counted whatever the footprints: an upper
-    bound)."""
-    return scene.solver.preconditioner in ("auto", "two_level", "moments") and \
-        scene.n_side**2 <= MAX_PILLARS
+    """Whether ``scene``'s solver builds a coarse level (``auto``, ``two_level``, ``moments``
+    or ``lattice``; counted whatever the footprints: an upper bound)."""
+    return scene.solver.preconditioner in ("auto", "two_level", "moments", "lattice")
 
 
 def coarse_level_bytes(scene, fft_size: int, n_active: int) -> int:
     """Peak bytes of the coarse level ``scene``'s solver builds on an FFT of side ``fft_size``
-    (0 when it builds none): the moment level where ``auto`` would pick it, else the force one."""
+    (0 when it builds none): the one ``auto`` takes (:func:`~fibril_hpc.solve.factory.auto_kind`;
+    a scene's pillars always lie on a lattice), or the one asked for."""
     if not uses_coarse_level(scene):
         return 0
     ng = scene.n_side**2
     kind = scene.solver.preconditioner
-    if kind == "moments" or (kind == "auto" and prefers_moments(fft_size, ng)):
+    if kind == "auto":
+        kind = auto_kind(ng, fft_size)
+    if kind == "lattice":
+        return lattice_bytes(ng, n_active)
+    if kind == "moments":
         return moment_bytes(ng, n_active)
     return coarse_bytes(ng, n_active)
 

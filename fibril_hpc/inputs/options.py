@@ -67,12 +67,16 @@ class SolverOptions:
         Wall-time cap of one simulation in seconds (``None``: none); exceeding it fails the
         simulation with that reason (campaigns use it to turn a runaway job into a failed record).
     preconditioner : str
-        ``"auto"`` (default: for at most 1296 pillars (36 x 36) of one footprint ``"moments"``
-        where the FFT is dear enough (``solve.factory.prefers_moments``), else ``"two_level"``; ``"block"``
-        for more pillars; else ``"diagonal"``), ``"block"`` (exact per-pillar block Jacobi),
-        ``"diagonal"`` (c0 I + alpha B B^T), ``"two_level"`` (block Jacobi plus a coarse level
-        of one force per pillar in contact, :mod:`fibril_hpc.solve.coarse`) or ``"moments"``
-        (three coarse unknowns per pillar, force and tilts; :mod:`fibril_hpc.solve.moments`).
+        ``"auto"`` (default: for pillars of one footprint the coarse level of
+        ``solve.factory.auto_kind``: ``"lattice"`` from 400 pillars on and where the FFT is
+        dear enough (``solve.factory.prefers_moments``), else ``"two_level"``; else
+        ``"diagonal"``), ``"block"`` (exact per-pillar block Jacobi), ``"diagonal"``
+        (c0 I + alpha B B^T), ``"two_level"`` (block Jacobi plus a coarse level of one force per
+        pillar in contact, :mod:`fibril_hpc.solve.coarse`; at most 1296 pillars), ``"moments"``
+        (three coarse unknowns per pillar, force and tilts, a dense inverse;
+        :mod:`fibril_hpc.solve.moments`; at most 1296 pillars) or ``"lattice"`` (the same three
+        unknowns, coupled by FFT on the pillar lattice and solved iteratively;
+        :mod:`fibril_hpc.solve.lattice`; no cap).
         All reach the same answer; ``"auto"`` keeps its name in scene texts and job keys.
     detach_policy : str
         ``"all"`` (reference: every supercritical element detaches in one pass) or ``"worst"``
@@ -118,7 +122,7 @@ class SolverOptions:
     max_events: int = _opt(1_000_000, "resource", Int(1, 10**9))
     max_wall_s: float | None = _opt(None, "resource", Real(0, lo_open=True, none="null"))
     preconditioner: str = _opt("auto", "accuracy",
-                               Choice(("auto", "block", "diagonal", "two_level", "moments")))
+                               Choice(("auto", "block", "diagonal", "two_level", "moments", "lattice")))
     detach_policy: str = _opt("all", "accuracy", Choice(("all", "worst")))
     fft_backend: str = _opt("pyfftw", "backend", Choice(("pyfftw", "numpy")), "backend")
     fft_threads: int | None = _opt(None, "resource", Int(1, 1024, none="null (one thread)"),

@@ -317,3 +317,43 @@ def point_forces_at(out, tgt, iy, ix, cy, cx, forces):
                 r = 0.5
             s += forces[b] / r
         out[t] += s
+
+
+@jit
+def block3_apply(blocks, v, out):
+    """out[g] = blocks[g] @ v[g] for (n, 3, 3) blocks and (n, 3) vectors."""
+    for g in range(blocks.shape[0]):
+        for a in range(3):
+            out[g, a] = blocks[g, a, 0] * v[g, 0] + blocks[g, a, 1] * v[g, 1] \
+                + blocks[g, a, 2] * v[g, 2]
+
+
+@jit
+def lattice_scatter(v, ib, ia, grid):
+    """grid[a, ib[g], ia[g]] = v[g, a] (the other nodes of ``grid`` are left as they are)."""
+    for g in range(v.shape[0]):
+        for a in range(3):
+            grid[a, ib[g], ia[g]] = v[g, a]
+
+
+@jit
+def spectral3(kern3, vh, out):
+    """out[a, j] = sum_b kern3[a, b, j] vh[b, j]: one 3 x 3 product per frequency j (complex
+    (3, 3, n), (3, n) and (3, n))."""
+    for j in range(vh.shape[1]):
+        v0 = vh[0, j]
+        v1 = vh[1, j]
+        v2 = vh[2, j]
+        for a in range(3):
+            out[a, j] = kern3[a, 0, j] * v0 + kern3[a, 1, j] * v1 + kern3[a, 2, j] * v2
+
+
+@jit
+def lattice_gather(grid, ib, ia, blocks, v, use, out):
+    """out[g, a] = use[g, a] (grid[a, ib[g], ia[g]] + (blocks[g] @ v[g])[a]): the lattice
+    couplings read back at the pillars plus each pillar's own block, on the unknowns in use."""
+    for g in range(v.shape[0]):
+        for a in range(3):
+            s = grid[a, ib[g], ia[g]] + blocks[g, a, 0] * v[g, 0] + blocks[g, a, 1] * v[g, 1] \
+                + blocks[g, a, 2] * v[g, 2]
+            out[g, a] = s * use[g, a]

@@ -137,3 +137,19 @@ def point_loads_at(out, tgt, iy, ix, idx, vals, table):
 def point_forces_at(out, tgt, iy, ix, cy, cx, forces):
     r = np.hypot(iy[tgt][:, None] - cy[None, :], ix[tgt][:, None] - cx[None, :])
     out += (forces[None, :] / np.maximum(r, 0.5)).sum(axis=1)
+
+
+def block3_apply(blocks, v, out):
+    out[:] = np.einsum("gab,gb->ga", blocks, v)
+
+
+def lattice_scatter(v, ib, ia, grid):
+    grid[:, ib, ia] = v.T
+
+
+def spectral3(kern3, vh, out):
+    out[:] = np.einsum("abj,bj->aj", kern3, vh)
+
+
+def lattice_gather(grid, ib, ia, blocks, v, use, out):
+    out[:] = use * (grid[:, ib, ia].T + np.einsum("gab,gb->ga", blocks, v))

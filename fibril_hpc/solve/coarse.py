@@ -33,10 +33,11 @@ import numpy as np
 from ..elastic.greens import love
 from .precond import BlockPreconditioner
 
-#: most pillars of a two-level scene (the coarse inverse is dense, ng x ng); ``auto`` falls back
-#: to block Jacobi above it. 36 x 36: measured to pay there (13 269 FFT pairs and 409 CPU s
-#: against block Jacobi's 33 138 and 570 s on the default-preset 36 x 36 scene,
-#: benchmarks/NOTES.md); larger brushes are not measured and keep block Jacobi
+#: most pillars of a scene with a dense coarse level (the force level here, the dense moment
+#: level of :mod:`fibril_hpc.solve.moments`: their inverses are pillar x pillar). Above it
+#: ``auto`` takes the lattice level (:mod:`fibril_hpc.solve.lattice`, no cap), or block Jacobi
+#: for pillars off any lattice. 36 x 36 was measured to pay with the force level (13 269 FFT
+#: pairs and 409 CPU s against block Jacobi's 33 138 and 570 s, benchmarks/NOTES.md)
 MAX_PILLARS = 1296
 
 

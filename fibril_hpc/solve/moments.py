@@ -49,15 +49,11 @@ from ..geometry.scaling import E_STAR
 from .coarse import CoarseLevel
 
 
-def multipole_couplings(cx, cy, h) -> np.ndarray:
-    """F's off-diagonal blocks, (3 n, 3 n) with zero diagonal blocks, for footprint centres
-    (cx, cy) and element side h (see the module docstring)."""
-    n = len(cx)
+def multipole_kernel(rx, ry, h) -> np.ndarray:
+    """The coupling block F_gh of the module docstring for offsets R = c_h - c_g = (rx, ry)
+    (arrays of one shape S, no zero offset): an array of shape S + (3, 3)."""
     c = h * h / (np.pi * E_STAR)
-    rx = cx[None, :] - cx[:, None]
-    ry = cy[None, :] - cy[:, None]
     r2 = rx * rx + ry * ry
-    np.fill_diagonal(r2, 1.0)
     r = np.sqrt(r2)
     r3 = r2 * r
     r5 = r3 * r2
@@ -65,33 +61,36 @@ def multipole_couplings(cx, cy, h) -> np.ndarray:
     hxx = c * (3.0 * rx * rx - r2) / r5
     hyy = c * (3.0 * ry * ry - r2) / r5
     hxy = 3.0 * c * rx * ry / r5
-    t = np.empty((n, 3, n, 3))
-    t[:, 0, :, 0] = love(rx, ry, h)
-    t[:, 0, :, 1], t[:, 0, :, 2] = gx, gy
-    t[:, 1, :, 0], t[:, 2, :, 0] = -gx, -gy
-    t[:, 1, :, 1], t[:, 1, :, 2] = -hxx, -hxy
-    t[:, 2, :, 1], t[:, 2, :, 2] = -hxy, -hyy
+    t = np.empty(np.shape(rx) + (3, 3))
+    t[..., 0, 0] = love(rx, ry, h)
+    t[..., 0, 1], t[..., 0, 2] = gx, gy
+    t[..., 1, 0], t[..., 2, 0] = -gx, -gy
+    t[..., 1, 1], t[..., 1, 2] = -hxx, -hxy
+    t[..., 2, 1], t[..., 2, 2] = -hxy, -hyy
+    return t
+
+
+def multipole_couplings(cx, cy, h) -> np.ndarray:
+    """F's off-diagonal blocks, (3 n, 3 n) with zero diagonal blocks, for footprint centres
+    (cx, cy) and element side h (see the module docstring)."""
+    n = len(cx)
+    rx = cx[None, :] - cx[:, None]
+    ry = cy[None, :] - cy[:, None]
     i = np.arange(n)
-    t[i, :, i, :] = 0.0
-    return t.reshape(3 * n, 3 * n)
+    rx[i, i] = 1.0                                  # any nonzero offset: zeroed below
+    t = multipole_kernel(rx, ry, h)                 # (n, n, 3, 3)
+    t[i, i] = 0.0
+    return np.ascontiguousarray(t.transpose(0, 2, 1, 3)).reshape(3 * n, 3 * n)
 
 
-class MomentTwoLevelPreconditioner(CoarseLevel):
-    """Block Jacobi plus a coarse level of three moments per pillar (module docstring)."""
+class MomentModes(CoarseLevel):
+    """What the moment coarse levels share (the dense one here, the lattice one of
+    :mod:`fibril_hpc.solve.lattice`): per pillar its unit-moment shapes Zh_g, D_g, F_gg = D_g^-1
+    and which of its three unknowns are in use, following the attached set pillar by pillar
+    (only pillars whose attached elements changed are recomputed)."""
 
-    #: the ``solver.preconditioner`` value that builds this one (``auto`` reports its choice)
-    kind = "moments"
-
-    #: pillar updates of F^-1 between two dense rebuilds (bounds the rounding they accumulate)
-    REBUILD_EVERY = 256
-    #: a change moving more pillars than this (and than an eighth of those in contact) rebuilds
-    MAX_UPDATES_PER_CHANGE = 8
-    #: a Schur pivot below this (relative) rebuilds; a D_g with a relative eigenvalue below
-    #: ``TILT_TOL`` keeps the force unknown only
-    PIVOT_TOL = 1e-8
+    #: a D_g with a relative eigenvalue below this keeps the force unknown only
     TILT_TOL = 1e-6
-
-    _STATE = ("_att", "_zh", "_d", "_fgg", "_use", "_fc", "_unk", "_pos", "_nu")
 
     def __init__(self, geometry, alpha):
         super().__init__(geometry, alpha)
@@ -103,19 +102,10 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         self._centres = (cx, cy)
         self._xr = x - cx[:, None]
         self._yr = y - cy[:, None]
-        self._t = multipole_couplings(cx, cy, h)
         self._zh = np.zeros((ng, m, 3))           # unit-moment shapes (zero for unused modes)
         self._d = np.zeros((ng, 3, 3))            # D_g on the used modes (zero elsewhere)
         self._fgg = np.zeros((ng, 3, 3))          # F_gg = D_g^-1 on the used modes
         self._use = np.zeros((ng, 3), dtype=bool)  # unknowns in use
-        # F^-1 on the unknowns in use only, kept compact: _fc[:n, :n] with n = _nu[0], position
-        # i holding unknown _unk[i] (_pos: the position of an unknown, -1 if not in use), so its
-        # products and updates cost (3 n_contact)^2, not (3 n_pillars)^2
-        self._fc = np.zeros((3 * ng, 3 * ng))
-        self._unk = np.zeros(3 * ng, dtype=np.int64)
-        self._pos = np.full(3 * ng, -1, dtype=np.int64)
-        self._nu = np.zeros(1, dtype=np.int64)
-        self._buf = np.empty(9 * ng * ng)         # work space of the low-rank updates
         self.pillar_updates = 0
 
     @property
@@ -126,11 +116,6 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         was 1.37 on the default scene and 1.08 on a stiff smooth 8 x 8 path, against 3.4 for
         block Jacobi alone (benchmarks/NOTES.md §20)."""
         return self, 2.0
-
-    def update_counts(self) -> dict:
-        """Dense rebuilds and pillar block updates of F^-1 so far."""
-        return {"coarse_factorisations": self.factorisations,
-                "coarse_pillar_updates": self.pillar_updates}
 
     def centres(self) -> tuple:
         """(x, y) of the footprint centres, one per pillar (physical units)."""
@@ -176,11 +161,12 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
                 zh[k][:, u] = z[k][:, u] @ inv
         return zh, d, fgg, use
 
-    def update(self, att) -> None:
-        """Prepare for a solve on the attached set ``att``: the modes and F^-1 follow it."""
+    def _follow_modes(self, att):
+        """Bring the modes to the attached set ``att`` (the block level first): None if nothing
+        is to be done, else (pillars recomputed, their old ``use``, their old F_gg)."""
         self.block_jacobi.update(att)
         if self._valid and np.array_equal(att, self._att):
-            return
+            return None
         self.updates += 1
         ng, m = self.ng, self.m
         changed = np.arange(ng) if not self._valid else np.flatnonzero(
@@ -191,6 +177,58 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
         old_fgg = self._fgg[changed].copy()
         self._zh[changed], self._d[changed] = zh, d
         self._fgg[changed], self._use[changed] = fgg, use
+        return changed, old_use, old_fgg
+
+    def _moments(self, r) -> np.ndarray:
+        """c = Zh^T r, (n_pillars, 3) (batched over the pillars: matmul is several times faster
+        than einsum here)."""
+        return np.matmul(r.reshape(self.ng, 1, self.m), self._zh)[:, 0]
+
+    def _correct(self, y, z) -> None:
+        """z <- z + Zh y for coarse coefficients y (n_pillars, 3)."""
+        z.reshape(self.ng, self.m)[:] += np.matmul(self._zh, y[:, :, None])[:, :, 0]
+
+
+class MomentTwoLevelPreconditioner(MomentModes):
+    """Block Jacobi plus a coarse level of three moments per pillar, its inverse kept dense
+    (module docstring)."""
+
+    #: the ``solver.preconditioner`` value that builds this one (``auto`` reports its choice)
+    kind = "moments"
+
+    #: pillar updates of F^-1 between two dense rebuilds (bounds the rounding they accumulate)
+    REBUILD_EVERY = 256
+    #: a change moving more pillars than this (and than an eighth of those in contact) rebuilds
+    MAX_UPDATES_PER_CHANGE = 8
+    #: a Schur pivot below this (relative) rebuilds
+    PIVOT_TOL = 1e-8
+
+    _STATE = ("_att", "_zh", "_d", "_fgg", "_use", "_fc", "_unk", "_pos", "_nu")
+
+    def __init__(self, geometry, alpha):
+        super().__init__(geometry, alpha)
+        ng = self.ng
+        self._t = multipole_couplings(*self._centres, geometry.h)
+        # F^-1 on the unknowns in use only, kept compact: _fc[:n, :n] with n = _nu[0], position
+        # i holding unknown _unk[i] (_pos: the position of an unknown, -1 if not in use), so its
+        # products and updates cost (3 n_contact)^2, not (3 n_pillars)^2
+        self._fc = np.zeros((3 * ng, 3 * ng))
+        self._unk = np.zeros(3 * ng, dtype=np.int64)
+        self._pos = np.full(3 * ng, -1, dtype=np.int64)
+        self._nu = np.zeros(1, dtype=np.int64)
+        self._buf = np.empty(9 * ng * ng)         # work space of the low-rank updates
+
+    def update_counts(self) -> dict:
+        """Dense rebuilds and pillar block updates of F^-1 so far."""
+        return {"coarse_factorisations": self.factorisations,
+                "coarse_pillar_updates": self.pillar_updates}
+
+    def update(self, att) -> None:
+        """Prepare for a solve on the attached set ``att``: the modes and F^-1 follow it."""
+        moved = self._follow_modes(att)
+        if moved is None:
+            return
+        changed, old_use, old_fgg = moved
         n_in = int(np.count_nonzero(self._use[:, 0]))
         if not self._valid or len(changed) > max(self.MAX_UPDATES_PER_CHANGE, n_in // 8) \
                 or self._since_rebuild + len(changed) > self.REBUILD_EVERY \
@@ -340,13 +378,11 @@ class MomentTwoLevelPreconditioner(CoarseLevel):
     def apply(self, r, att, z) -> float:
         """z <- (two-level preconditioner) r on the attached set; returns r.z."""
         self.block_jacobi.apply(r, att, z)
-        ng, m = self.ng, self.m
-        # batched products (matmul over the pillars: several times faster than einsum here)
-        c = np.matmul(r.reshape(ng, 1, m), self._zh)[:, 0]                # Zh^T r
+        c = self._moments(r)                                               # Zh^T r
         y = -np.einsum("gab,gb->ga", self._d, c)
         n = int(self._nu[0])
         if n:
             u = self._unk[:n]
             y.reshape(-1)[u] += self._fc[:n, :n] @ c.reshape(-1)[u]
-        z.reshape(ng, m)[:] += np.matmul(self._zh, y[:, :, None])[:, :, 0]
+        self._correct(y, z)
         return float(r @ z)
