@@ -209,15 +209,22 @@ def path_todo(a: AutoPreloads, results, retry_failed=False, failed=()) -> tuple[
     return rp.todo, rp.rounds
 
 
-def results_by_path(records, paths) -> tuple[dict, dict]:
-    """({path: {preload: (F_P, F_A)}} of done records, {path: set of failed preloads})."""
+def _path_of(r) -> tuple:
+    return float(r["k_tilde"]), float(r["sigma_tilde"]), int(r["seed"])
+
+
+def results_by_path(records, paths, path_of=None) -> tuple[dict, dict]:
+    """({path: {preload: (F_P, F_A)}} of done records, {path: set of failed preloads});
+    ``path_of(record)``: its path (default (k~, sigma~, seed); a grid sweeping ``n_side`` passes
+    :meth:`.spec.CampaignSpec.record_path`)."""
     want = set(paths)
+    path_of = path_of or _path_of
     done: dict = {p: {} for p in want}
     failed: dict = {p: set() for p in want}
     for r in records:
         if r.get("preload_kind") != "F_P":
             continue
-        path = (float(r["k_tilde"]), float(r["sigma_tilde"]), int(r["seed"]))
+        path = path_of(r)
         if path not in want:
             continue
         if r.get("status") == "done":

@@ -13,13 +13,15 @@ A grid YAML is a mapping::
     # with scene.physical (SI units, docs/units.md), k: [N/m, ...] and sigma: [m, ...] may
     # stand for k_tilde and sigma_tilde; the jobs are keyed by the normalised values
     group_preloads: true        # jobs sharing (k_tilde, sigma_tilde, seed) share one loading path
-    sweep:                      # optional: lab-scene fields swept like the others (lists)
+    sweep:                      # optional: scene fields swept like the others (lists, .sweep)
+      n_side: [6, 12, 18]       # the brush size (a finite-size study)
       k_machine: [.inf, 1, 0.1]
       tip_radius: [1, 4]
       heights: [gaussian, array_a.csv, array_b.npy]   # laws and/or measured files
 
 Every combination (k_tilde, sigma_tilde, preload, seed and the ``sweep`` values) is one job; a
-swept lab field's value is in the job's stored scene (``scene_yaml``). A measured ``heights``
+swept field's value is in the job's stored scene (``scene_yaml``). With ``F_P: auto`` only
+``n_side`` may be swept: one loading path per (n_side, k_tilde, sigma_tilde, seed). A measured ``heights``
 or stiffness (``k_law``) file, in ``scene`` or among the swept values, is read once, relative to
 the YAML's folder; the job's scene keeps its values and, in ``heights_source``/``k_source``,
 its name and SHA-256.
@@ -35,26 +37,25 @@ keys: two grids with the same set of jobs have the same hash.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import yaml
 
 from ...errors import ConfigError
 from ...inputs.config import read_yaml
 from ...inputs.heights import is_file as is_height_file
-from ...inputs.heights import read_file as read_height_file
 from ...inputs.limits import check_job_count
 from ...inputs.physical import grid_values
 from ...inputs.ranges import as_float, range_of
 from ...inputs.scene import Scene, scene_from_dict
 from .auto import parse, settings_hash
+from .axes import record_n_side
 from .keys import campaign_hash_of, job_key, key_fields, key_of_fields
+from .sweep import check_n_side_sweep, parse_sweep, sweep_files
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
             "group_preloads", "description", "sweep", "k", "sigma")
-#: scene fields a grid may sweep under ``sweep:`` (the lab fields of :class:`Scene`)
-SWEEPABLE = tuple(f.name for f in fields(Scene) if f.metadata.get("extra") and f.metadata["key"])
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,7 +116,7 @@ class CampaignSpec:
     def resolved(self) -> dict:
         """The resolved campaign as a plain mapping (what the HDF5 file stores as YAML)."""
         scene = self.base.to_dict()
-        for k in SWEPT:
+        for k in SWEPT + (("n_side",) if "n_side" in self.sweep else ()):
             scene.pop(k, None)
         pre = list(self.preloads) if self.auto is None else {"auto": self.auto.to_dict()}
         out = {"description": self.description, "scene": scene,
@@ -143,27 +144,52 @@ class CampaignSpec:
         return campaign_hash_of(f"auto:{h}:{self.path_key(p)}" for p in self.paths())
 
     # ------------------------------------------------------------------ F_P: auto
+    @property
+    def n_sides(self) -> tuple:
+        """The brush sizes of the grid: the swept ``n_side`` values, else the scene's one."""
+        return tuple(self.sweep.get("n_side", (self.base.n_side,)))
+
     def paths(self, whole: bool = False) -> list:
         """The loading paths (k_tilde, sigma_tilde, seed), in grid order (a shard's own, unless
-        ``whole``)."""
-        return [(k, s, seed) for k in self.k_tilde for s in self.sigma_tilde for seed in self.seeds
-                if whole or self.only_paths is None or (k, s, seed) in self.only_paths]
+        ``whole``); (k_tilde, sigma_tilde, seed, n_side) when the grid sweeps ``n_side``."""
+        sizes = [(n,) for n in self.sweep["n_side"]] if "n_side" in self.sweep else [()]
+        return [(k, s, seed) + n for n in sizes for k in self.k_tilde for s in self.sigma_tilde
+                for seed in self.seeds
+                if whole or self.only_paths is None or (k, s, seed) + n in self.only_paths]
+
+    @staticmethod
+    def _path_extra(path) -> tuple:
+        """The ``sweep`` entries of a path: ``(("n_side", n),)`` or ``()``."""
+        return (("n_side", path[3]),) if len(path) > 3 else ()
+
+    def path_of_job(self, job) -> tuple:
+        """The loading path a job of an ``F_P: auto`` grid belongs to."""
+        n = dict(job.extra).get("n_side")
+        return (job.k_tilde, job.sigma_tilde, job.seed) + ((n,) if "n_side" in self.sweep else ())
+
+    def record_path(self, rec: dict) -> tuple:
+        """The loading path of a stored record (its brush size read from its stored scene when
+        the grid sweeps ``n_side``: :func:`.axes.record_n_side`)."""
+        path = (float(rec["k_tilde"]), float(rec["sigma_tilde"]), int(rec["seed"]))
+        return path + ((record_n_side(rec),) if "n_side" in self.sweep else ())
 
     def path_key(self, path) -> str:
         """Key of the path's scene at F_P = 1 (its identity in an auto grid's campaign hash)."""
-        k, s, seed = path
-        return job_key(self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed, F_P=(1.0,)))
+        k, s, seed = path[:3]
+        return job_key(self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed, F_P=(1.0,),
+                                         **dict(self._path_extra(path))))
 
     def auto_task(self, path, preloads) -> Task:
         """One round of an ``F_P: auto`` path: a task with one ordinary job per preload."""
-        k, s, seed = path
-        base_index = self.paths(whole=True).index(path) * 1000
+        k, s, seed = path[:3]
+        extra = self._path_extra(path)
+        base_index = self.paths(whole=True).index(tuple(path)) * 1000
         jobs = []
         for i, p in enumerate(sorted(preloads)):
-            job = Job("", base_index + i, k, s, "F_P", p, seed)
-            jobs.append(Job(job_key(self.job_scene(job)), job.index, k, s, "F_P", p, seed))
+            job = Job("", base_index + i, k, s, "F_P", p, seed, extra)
+            jobs.append(Job(job_key(self.job_scene(job)), job.index, k, s, "F_P", p, seed, extra))
         scene = self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed,
-                                  F_P=tuple(j.preload for j in jobs))
+                                  F_P=tuple(j.preload for j in jobs), **dict(extra))
         return Task(tuple(jobs), scene)
 
     # ------------------------------------------------------------------ jobs
@@ -260,55 +286,6 @@ def _values(name, v):
     return tuple(out)
 
 
-def _sweep(v) -> dict:
-    """The ``sweep:`` mapping: lab field -> non-empty list of distinct values (each value is
-    checked when the jobs' scenes are built)."""
-    if v is None:
-        return {}
-    if not isinstance(v, dict):
-        raise ConfigError("sweep", v, "a mapping of " + ", ".join(SWEEPABLE) + " to lists")
-    out = {}
-    for name, values in v.items():
-        if name not in SWEEPABLE:
-            raise ConfigError(f"sweep.{name}", values, "a sweepable field: " + ", ".join(SWEEPABLE))
-        items = list(values) if isinstance(values, list) else [values]
-        if not items or len({repr(x) for x in items}) != len(items):
-            raise ConfigError(f"sweep.{name}", values, "a value or a non-empty list of distinct "
-                              "values")
-        out[name] = tuple(items)
-    return out
-
-
-#: lab fields whose value may be a measured file, and the field that records its name and hash
-FILE_FIELDS = {"heights": "heights_source", "k_law": "k_source"}
-
-
-def _sweep_files(sweep: dict, base: Scene, base_dir: str) -> dict:
-    """{(field, value): ((field, values), (source field, "path sha256:...")), ...} for the swept
-    values of a field that takes files: each file read once, relative to the YAML's folder, and
-    its count checked here, so a bad file is one line naming ``sweep.<field>`` and the file; a
-    law (not a file) clears the source a measured file of the base scene left."""
-    out = {}
-    n = base.n_side**2
-    for name, src in FILE_FIELDS.items():
-        for item in sweep.get(name, ()):
-            if not isinstance(item, str):
-                continue                    # checked with the job's scene
-            if not is_height_file(item):
-                out[(name, item)] = ((name, item), (src, ""))
-                continue
-            path = os.path.join(base_dir, os.path.expanduser(item))
-            try:
-                values, source = read_height_file(path, name)
-            except ConfigError as exc:
-                raise ConfigError(f"sweep.{name}", item, exc.allowed) from None
-            if len(values) != n:
-                raise ConfigError(f"sweep.{name}", item, f"one value per pillar: n_side**2 = {n} "
-                                  f"(the file holds {len(values)})")
-            out[(name, item)] = ((name, values), (src, source))
-    return out
-
-
 def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSpec:
     """Validate a grid mapping; every problem is a one-line :class:`ConfigError`."""
     if not isinstance(data, dict):
@@ -329,11 +306,19 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
             allowed = "set at the top level" + (" as seeds" if k == "seed" else f" as {k}")
             raise ConfigError(f"scene.{k}", scene_map[k], allowed + " (it is swept)")
     scene_map = dict(scene_map)
+    sweep = parse_sweep(data.get("sweep"))
+    check_n_side_sweep(scene_map, sweep, data)
     for key in ("heights", "k_law"):          # measured files: relative to the YAML's folder
         if is_height_file(scene_map.get(key)):
             scene_map[key] = os.path.join(base_dir, os.path.expanduser(scene_map[key]))
-    base = scene_from_dict(scene_map, where="scene.")
-    sweep = _sweep(data.get("sweep"))
+    if "n_side" in sweep:                     # the base scene: the largest brush (limits, memory)
+        scene_map["n_side"] = max(sweep["n_side"])
+    try:
+        base = scene_from_dict(scene_map, where="scene.")
+    except ConfigError as exc:
+        if "n_side" not in sweep or exc.field != "scene.n_side":
+            raise
+        raise ConfigError("sweep.n_side", exc.value, exc.allowed) from None
     data = {**{k: v for k, v in data.items() if k not in ("k", "sigma")},   # SI lists, converted
             **grid_values(data, scene_map.get("physical"), base)}
     for name in ("k_tilde", "sigma_tilde"):
@@ -389,9 +374,11 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         if not group:
             raise ConfigError("group_preloads", group, "true with F_P: auto (a round is one "
                               "loading path)")
-        if sweep:
-            raise ConfigError("sweep", list(sweep), "no sweep with F_P: auto (give the preloads "
-                              "as a list, or one grid per swept value)")
+        lab = [name for name in sweep if name != "n_side"]
+        if lab:
+            raise ConfigError(f"sweep.{lab[0]}", list(sweep[lab[0]]), "no lab-field sweep with F_P: "
+                              "auto (n_side is the one field it sweeps): give the preloads as a "
+                              "list, or run one grid per value")
         for path in spec.paths():            # validates every path's scene now
             spec.auto_task(path, auto.start[:1])
         return spec
@@ -400,7 +387,7 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         if jobs is not None:
             spec.jobs = jobs
             return spec
-    files = _sweep_files(sweep, base, base_dir)
+    files = sweep_files(sweep, base, base_dir)
     extras = [()]
     for name, values in sweep.items():
         extras = [e + (files.get((name, v), ((name, v),)) if isinstance(v, str) else ((name, v),))

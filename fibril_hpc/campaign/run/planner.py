@@ -46,7 +46,7 @@ class AutoPlanner:
         self.auto = spec.auto
         self.retry_failed = retry_failed
         _, recs = store.read_h5_records(spec.output, curves=False)   # the writer folded the journal
-        self.done, self.failed = results_by_path(recs.values(), spec.paths())
+        self.done, self.failed = results_by_path(recs.values(), spec.paths(), spec.record_path)
 
     def _task(self, path):
         todo, _ = path_todo(self.auto, self.done[path], False, self.failed[path])
@@ -63,8 +63,7 @@ class AutoPlanner:
 
     def after(self, task, records) -> list:
         """The next round of the path of ``task`` given its new ``records`` (or nothing)."""
-        j0 = task.jobs[0]
-        path = (j0.k_tilde, j0.sigma_tilde, j0.seed)
+        path = self.spec.path_of_job(task.jobs[0])
         for r in records:
             p = float(r["preload"])
             if r["status"] == "done":

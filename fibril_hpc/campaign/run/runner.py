@@ -22,9 +22,10 @@ log = logging.getLogger(__name__)
 
 
 def order_tasks(tasks) -> list:
-    """Expensive-looking tasks first (more preloads, larger preload, smaller sigma~, softer
-    pillars), which shortens the tail of a dynamically scheduled campaign."""
-    return sorted(tasks, key=lambda t: (-len(t.jobs), -max(j.preload for j in t.jobs),
+    """Expensive-looking tasks first (larger brushes, more preloads, larger preload, smaller
+    sigma~, softer pillars), which shortens the tail of a dynamically scheduled campaign."""
+    return sorted(tasks, key=lambda t: (-t.scene.n_side, -len(t.jobs),
+                                        -max(j.preload for j in t.jobs),
                                         t.jobs[0].sigma_tilde, t.jobs[0].k_tilde,
                                         t.jobs[0].index))
 

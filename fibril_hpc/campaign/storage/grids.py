@@ -3,10 +3,11 @@
 A record is counted or published only when its key is a job of a grid the file was written
 for: the grid of ``campaign_yaml``, the earlier grids of ``extended_from`` and, in a merged file,
 the grids of ``merged_from``. Every grid is rebuilt from its stored YAML (the same validation as
-``fibril-campaign run``). With ``F_P: auto`` a key belongs when its (k~, sigma~, seed) is a path of
-the grid and the key is that path's job at the record's preload. A grid that cannot be rebuilt
-(e.g. a measured height file that is no longer there) falls back to the record itself: its key
-must be the key of its own stored scene (``scene_yaml``). Anything else is *foreign*.
+``fibril-campaign run``). With ``F_P: auto`` a key belongs when its (k~, sigma~, seed, and
+n_side where the grid sweeps it) is a path of the grid and the key is that path's job at the
+record's preload. A grid that cannot be rebuilt (e.g. a measured height file that is no longer
+there) falls back to the record itself: its key must be the key of its own stored scene
+(``scene_yaml``). Anything else is *foreign*.
 """
 
 from __future__ import annotations
@@ -109,8 +110,11 @@ class GridIndex:
     def _auto_job(self, rec: dict) -> bool:
         if not self.auto or rec.get("preload_kind") != "F_P":
             return False
-        path = (rec.get("k_tilde"), rec.get("sigma_tilde"), rec.get("seed"))
         for spec in self.auto:
+            try:
+                path = spec.record_path(rec)
+            except (KeyError, TypeError, ValueError):
+                continue
             if path in spec.paths():
                 try:
                     if spec.auto_task(path, [rec.get("preload")]).jobs[0].key == rec["key"]:
