@@ -82,8 +82,9 @@ def _parser() -> Parser:
     e.add_argument("--parquet", metavar="OUT.parquet",
                    help="write a Parquet file (needs pandas and pyarrow: the 'report' extra)")
     e.add_argument("--netcdf", metavar="OUT.nc",
-                   help="write a netCDF-4 file over (k_tilde, sigma_tilde, preload, seed) with "
-                        "the curves (needs xarray and h5netcdf: the 'netcdf' extra)")
+                   help="write a netCDF-4 file over (k_tilde, sigma_tilde, preload, seed; n_side "
+                        "first when the grid sweeps it) with the curves (needs xarray and "
+                        "h5netcdf: the 'netcdf' extra)")
     e.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
     m = sub.add_parser("merge", help="merge campaign files into a new one")
     m.add_argument("files", nargs="+", help="campaign files (shards) of one grid")
@@ -107,7 +108,7 @@ def _parser() -> Parser:
     ex = sub.add_parser("example", help="print a shipped grid or Slurm script (no NAME: list "
                         "them), e.g. `fibril-campaign example demo > grid.yaml`")
     ex.add_argument("name", nargs="?", help="the example: demo, paper, machine, report_example, "
-                    "campaign.sbatch, array.sbatch, chain.sh")
+                    "finite_size, campaign.sbatch, array.sbatch, chain.sh")
     ex.add_argument("-o", "--output", metavar="FILE",
                     help="write it to FILE (a new file; scripts made executable), not stdout")
     return p
@@ -182,7 +183,8 @@ def cmd_run(args) -> int:
     if not args.ignore_memory_check:
         from ..inputs.limits import check_memory
 
-        check_memory(spec.base, field="scene")     # before any operator is built
+        # before any operator is built; a grid sweeping n_side: its largest brush (the base)
+        check_memory(spec.base, field="sweep.n_side" if "n_side" in spec.sweep else "scene")
     comm = connect(serial=args.serial)
     rank = 0 if comm is None else comm.Get_rank()
     if args.dry_run:
@@ -204,21 +206,25 @@ def _print_plan(spec, retry_failed: bool) -> None:
     from ..campaign.analysis.status import plan
 
     pl = plan(spec, retry_failed)
+    swept = "".join(f" x {len(v)} sweep.{k}" for k, v in spec.sweep.items())
     if spec.auto is None:
         print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
               f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
-              f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds), "
+              f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds{swept}), "
               f"{len(spec.tasks())} loading paths")
     else:
         a = spec.auto
         print(f"campaign {spec.campaign_hash[:12]}: F_P auto, {len(spec.paths())} loading paths "
               f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
-              f"{len(spec.seeds)} seeds); round 0: F_P = {', '.join(f'{x:g}' for x in a.start)}; "
+              f"{len(spec.seeds)} seeds{swept}); round 0: F_P = "
+              f"{', '.join(f'{x:g}' for x in a.start)}; "
               f"up to {a.rounds - 1} more rounds until {a.below} preloads lie below the kink and "
               f"{a.above} above it (the counts and cost below are round 0's)")
     print(f"output {spec.output}: {pl.done} done, {pl.failed} failed, {len(pl.to_run)} to run "
           f"in {len(pl.tasks)} simulate calls")
-    print(f"grid: {spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "
+    sizes = "" if len(spec.n_sides) < 2 else (
+        f"n_side {', '.join(map(str, spec.n_sides))}; the largest: ")
+    print(f"grid: {sizes}{spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "
           f"{pl.elements_per_pillar} elements per pillar, {pl.fft_pair_s * 1e3:.3f} ms per FFT "
           f"pair with {spec.base.solver.threads} thread(s)")
     est = pl.estimate_s
@@ -240,7 +246,10 @@ def cmd_status(args) -> int:
                           "updated": meta.get("updated"), **tot,
                           "in_journal": st.in_journal, "corrupt": st.corrupt,
                           "unchecked_keys": st.unchecked, "foreign": sorted(st.foreign),
-                          "by_k_tilde": {repr(k): v for k, v in st.by_k_tilde.items()}}))
+                          "by_k_tilde": {repr(k): v for k, v in st.by_k_tilde.items()},
+                          **({"by_n_side_k_tilde": [{"n_side": n, "k_tilde": k, **v} for (n, k), v
+                                                    in st.by_n_side.items()]}
+                             if st.by_n_side else {})}))
         return EXIT_OK
     print(f"{args.file}: campaign {str(meta.get('campaign_hash'))[:12]}, "
           f"updated {meta.get('updated')}"
@@ -256,11 +265,18 @@ def cmd_status(args) -> int:
     if st.foreign:
         print(f"  {len(st.foreign)} foreign member(s) of /jobs (links or data from elsewhere, "
               "or keys of no job of this grid): never counted; `verify` lists them")
-    print(f"  {'k_tilde':>10} {'done':>6} {'failed':>6} {'pending':>7}")
-    for k, d in st.by_k_tilde.items():
-        print(f"  {k:>10g} {d['done']:>6} {d['failed']:>6} {d['pending']:>7}")
+    if st.by_n_side:                   # a grid sweeping the brush size: by (n_side, k~)
+        print(f"  {'n_side':>6} {'k_tilde':>10} {'done':>6} {'failed':>6} {'pending':>7}")
+        for (n, k), d in st.by_n_side.items():
+            print(f"  {'?' if n is None else n:>6} {k:>10g} {d['done']:>6} {d['failed']:>6} "
+                  f"{d['pending']:>7}")
+    else:
+        print(f"  {'k_tilde':>10} {'done':>6} {'failed':>6} {'pending':>7}")
+        for k, d in st.by_k_tilde.items():
+            print(f"  {k:>10g} {d['done']:>6} {d['failed']:>6} {d['pending']:>7}")
     for r in st.failed[:5]:
-        print(f"  failed {r['key']} (k~={r['k_tilde']:g}, sigma~={r['sigma_tilde']:g}, "
+        size = f"n_side={r.get('n_side')}, " if st.by_n_side else ""
+        print(f"  failed {r['key']} ({size}k~={r['k_tilde']:g}, sigma~={r['sigma_tilde']:g}, "
               f"{r['preload_kind']}={r['preload']:g}, seed={r['seed']}): {r['message']}")
     return EXIT_OK
 

@@ -2,8 +2,9 @@
 
 Owns :mod:`.data` (:func:`~.data.load_campaign`), :mod:`.status` (what a file holds and what is
 left), :mod:`.export` (CSV, Parquet), :mod:`.report` (the report's orchestrator),
-:mod:`.report_data` (its numbers, from :mod:`fibril_hpc.campaign.laws`), :mod:`.figures` and
-:mod:`.figures_coeff` (its figures), :mod:`.tables` and :mod:`.page` (``README.md`` and the
+:mod:`.report_data` (its numbers, from :mod:`fibril_hpc.campaign.laws`), :mod:`.figures`,
+:mod:`.figures_coeff` and :mod:`.figures_size` (its figures; the last for a grid sweeping
+n_side), :mod:`.tables` and :mod:`.page` (``README.md`` and the
 self-contained ``report.html``).
 
 May import: :mod:`fibril_hpc.campaign.storage` and below. Independent of

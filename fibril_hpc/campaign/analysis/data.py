@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import logging
 import math
@@ -9,6 +10,8 @@ import math
 import numpy as np
 
 from ...errors import ConfigError, StoreError
+from ..plan.axes import record_n_side
+from ..storage.grids import stored_grids
 from ..storage.record import COLUMNS, JobRecord
 from ..storage.store import read_snapshot
 from . import dataset
@@ -25,8 +28,9 @@ class CampaignData:
     meta : dict
         Root attributes of the file (``campaign_yaml``, ``campaign_hash``, ``definitions`` ...).
     jobs : list of dict
-        One dict per job, with the :data:`COLUMNS` and ``loading``/``unloading`` curves (dicts
-        of arrays ``d_tilde``, ``F_tilde``, ``contact_fraction``, ``n_pillars_in_contact``).
+        One dict per job, with the :data:`COLUMNS`, ``n_side`` (the brush size, from the job's
+        stored scene; None without one) and ``loading``/``unloading`` curves (dicts of arrays
+        ``d_tilde``, ``F_tilde``, ``contact_fraction``, ``n_pillars_in_contact``).
     pending_in_journal : int
         Records finished but not yet folded into the HDF5 file (read from the journal).
     corrupt : dict
@@ -63,6 +67,16 @@ class CampaignData:
             return np.asarray(vals, dtype=float)
         return np.asarray(vals, dtype=object)
 
+    @functools.cached_property
+    def n_side_swept(self) -> bool:
+        """Whether the brush size is an axis of this file: a grid of it sweeps ``n_side``
+        (``sweep:``), or its jobs hold more than one brush size (e.g. a file extended by a grid
+        of another n_side). Then :meth:`to_dataframe` and the CSV export carry an ``n_side``
+        column and :meth:`to_xarray` an ``n_side`` dimension; else they are as they always
+        were."""
+        return grid_sweeps_n_side(self.meta) or len(
+            {j.get("n_side") for j in self.jobs if j.get("n_side") is not None}) > 1
+
     @property
     def table(self) -> dict:
         """Column name -> array (numeric columns as float arrays)."""
@@ -71,9 +85,10 @@ class CampaignData:
     def to_dataframe(self):
         """The jobs as a pandas DataFrame, one row per job, the columns of :data:`COLUMNS` typed
         as the fields of :class:`~fibril_hpc.campaign.storage.record.JobRecord` (float, int64,
-        str; ``finished`` a UTC datetime), followed, for a grid in physical units, by the SI
-        columns of :data:`~fibril_hpc.campaign.analysis.si.SI_COLUMNS` (N, m, N/m); needs pandas
-        (``pip install 'fibril-hpc[report]'``)."""
+        str; ``finished`` a UTC datetime), followed by ``n_side`` (int64) when the brush size is
+        an axis of the file (:attr:`n_side_swept`), then, for a grid in physical units, by the
+        SI columns of :data:`~fibril_hpc.campaign.analysis.si.SI_COLUMNS` (N, m, N/m); needs
+        pandas (``pip install 'fibril-hpc[report]'``)."""
         try:
             import pandas as pd
         except ImportError:
@@ -95,6 +110,8 @@ class CampaignData:
             else:
                 data[name] = ["" if v is None else str(v) for v in vals]
         data["finished"] = pd.to_datetime(data["finished"], utc=True, format="ISO8601")
+        if self.n_side_swept:
+            data["n_side"] = pd.array([j.get("n_side") for j in self.jobs], dtype="Int64")
         if has_units(self.meta):
             data.update(si_columns(self.jobs))
         return pd.DataFrame(data, columns=list(data))
@@ -103,7 +120,8 @@ class CampaignData:
     frame = to_dataframe
 
     def to_xarray(self, curves: bool = True):
-        """The jobs as an ``xarray.Dataset`` over (k_tilde, sigma_tilde, preload, seed): see
+        """The jobs as an ``xarray.Dataset`` over (k_tilde, sigma_tilde, preload, seed), and
+        ``n_side`` first when the brush size is an axis of the file (:attr:`n_side_swept`): see
         :func:`fibril_hpc.campaign.analysis.dataset.to_xarray`; needs xarray."""
         return dataset.to_xarray(self, curves=curves)
 
@@ -156,8 +174,30 @@ def fill_k_machine(rec: dict) -> dict:
     return rec
 
 
+def grid_sweeps_n_side(meta: dict) -> bool:
+    """Whether a grid stored in a file's root attributes (its own, or one it was extended from
+    or merged from) sweeps ``n_side``."""
+    import yaml
+
+    for text in stored_grids(meta):
+        try:
+            grid = yaml.safe_load(text)
+        except yaml.YAMLError:
+            continue
+        sweep = grid.get("sweep") if isinstance(grid, dict) else None
+        if isinstance(sweep, dict) and "n_side" in sweep:
+            return True
+    return False
+
+
+def fill_n_side(rec: dict) -> dict:
+    """Set a record's ``n_side`` from its stored scene (:func:`.plan.axes.record_n_side`)."""
+    rec["n_side"] = record_n_side(rec)
+    return rec
+
+
 def _sort_key(j):
-    return (j.get("k_tilde", 0.0), j.get("sigma_tilde", 0.0), j.get("seed", 0),
+    return (j.get("n_side") or 0, j.get("k_tilde", 0.0), j.get("sigma_tilde", 0.0), j.get("seed", 0),
             j.get("preload", 0.0))
 
 
@@ -190,6 +230,6 @@ def load_campaign(path: str, curves: bool = True, include_unchecked: bool = Fals
         log.warning("%s: %d foreign member(s) of /jobs left out (%s%s): `fibril-campaign verify "
                     "%s` says why", path, len(keys), ", ".join(k[:40] for k in keys[:3]),
                     " ..." if len(keys) > 3 else "", path)
-    jobs = sorted((fill_k_machine(r) for r in recs.values()), key=_sort_key)
+    jobs = sorted((fill_n_side(fill_k_machine(r)) for r in recs.values()), key=_sort_key)
     return CampaignData(snap.root, jobs, snap.pending, snap.corrupt, snap.unchecked_keys,
                         snap.foreign)

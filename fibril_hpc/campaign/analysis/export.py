@@ -1,5 +1,6 @@
 """Export of a campaign, one row per job with the columns of
-:data:`fibril_hpc.campaign.storage.record.COLUMNS`: CSV
+:data:`fibril_hpc.campaign.storage.record.COLUMNS` (then ``n_side`` when the brush size is an
+axis of the file: :attr:`~.data.CampaignData.n_side_swept`): CSV
 (no extra dependency) and Parquet (pandas + pyarrow: the ``report`` extra); and the whole
 campaign, curves included, as netCDF (xarray + h5netcdf: the ``netcdf`` extra)."""
 
@@ -26,11 +27,12 @@ def export_csv(path: str, out: str, include_unchecked: bool = False) -> int:
     rename; a full disk is a one-line :class:`~fibril_hpc.errors.DiskFull`); returns the rows.
     Records without a checksum are left out unless ``include_unchecked``."""
     c = load_campaign(path, curves=False, include_unchecked=include_unchecked)
+    cols = COLUMNS + (("n_side",) if c.n_side_swept else ())
     buf = io.StringIO(newline="")
     w = csv.writer(buf)
-    w.writerow(COLUMNS)
+    w.writerow(cols)
     for j in c.jobs:
-        w.writerow([_csv_value(j.get(col)) for col in COLUMNS])
+        w.writerow([_csv_value(j.get(col)) for col in cols])
     write_text_atomically(out, buf.getvalue(), "writing the CSV export")
     return len(c.jobs)
 

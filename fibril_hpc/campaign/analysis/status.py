@@ -39,6 +39,8 @@ class FileStatus:
     unchecked: list = field(default_factory=list)
     #: members of /jobs that are not this file's own records (name -> why): never counted
     foreign: dict = field(default_factory=dict)
+    #: for a grid sweeping n_side: the counts by (n_side, k~) (empty otherwise)
+    by_n_side: dict = field(default_factory=dict)
 
 
 def _grid_jobs(meta: dict, path: str, records=()) -> dict | None:
@@ -55,7 +57,7 @@ def _grid_jobs(meta: dict, path: str, records=()) -> dict | None:
     if spec.auto is None:
         return {j.key: j for j in spec.jobs}
 
-    done, failed = results_by_path(records, spec.paths())
+    done, failed = results_by_path(records, spec.paths(), spec.record_path)
     out = {}
     for p in spec.paths():
         todo, _ = path_todo(spec.auto, done[p], False, failed[p])
@@ -70,12 +72,18 @@ def file_status(path: str) -> FileStatus:
     grid = _grid_jobs(c.meta, path, c.jobs) or {}
     recs = {j["key"]: j for j in c.jobs}
     by_k: dict = {}
+    by_n: dict = {}
+    swept = c.n_side_swept
     for k in set(recs) | set(grid):
         r = recs.get(k)
         kt = r["k_tilde"] if r else grid[k].k_tilde
         st = UNCHECKED if k in c.unchecked else r["status"] if r else "pending"
         d = by_k.setdefault(kt, dict.fromkeys(STATES + (UNCHECKED,), 0))
         d[st if st in d else "failed"] += 1
+        if swept:
+            n = r.get("n_side") if r else dict(grid[k].extra).get("n_side")
+            d = by_n.setdefault((n, kt), dict.fromkeys(STATES + (UNCHECKED,), 0))
+            d[st if st in d else "failed"] += 1
     totals = {s: sum(d[s] for d in by_k.values()) for s in STATES + (UNCHECKED,)}
     vouched = [r for r in c.jobs if r["key"] not in c.unchecked]
     walls = [r["wall_s"] / max(1, r.get("group_size", 1)) for r in vouched
@@ -84,7 +92,10 @@ def file_status(path: str) -> FileStatus:
                       in_journal=c.pending_in_journal, done_wall_s=walls,
                       corrupt=sorted(c.corrupt), unchecked=sorted(c.unchecked),
                       foreign=dict(c.foreign),
-                      failed=[r for r in vouched if r["status"] == "failed"])
+                      failed=[r for r in vouched if r["status"] == "failed"],
+                      by_n_side=dict(sorted(by_n.items(), key=lambda kv: (kv[0][0] is None,
+                                                                           kv[0][0] or 0,
+                                                                           kv[0][1]))))
 
 
 @dataclass
@@ -134,8 +145,11 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                  for p in spec.paths()
                  for t in [spec.auto_task(p, spec.auto.start)]
                  if any(j.key in todo for j in t.jobs)]
-    pair_s, m, epp = fft_pair_seconds(spec.base)
-    est = sum(task_seconds(t.scene, pair_s, epp) for t in tasks)
+    timed = {n: fft_pair_seconds(spec.base if n == spec.base.n_side else
+                                 spec.base.replace(n_side=n)) for n in spec.n_sides}
+    est = sum(task_seconds(t.scene, timed[t.scene.n_side][0], timed[t.scene.n_side][2])
+              for t in tasks)
+    pair_s, m, epp = timed[max(timed)]           # the largest brush's (the base scene's)
     how = "model"
     if walls:
         est = sum(walls) / len(walls) * len(todo)
