@@ -49,7 +49,26 @@ def _summary(d) -> str:
     if len(d.machines) > 1:
         s += (f" The grid sweeps the machine stiffness k̃_m ({', '.join(f'{k:g}' for k in d.machines)}); "
               f"the readings use k̃_m = {d.machines[0]:g}.")
+    if d.n_sides:
+        n = "—" if d.n_side is None else str(d.n_side)
+        s += (f" The grid sweeps the brush size n_side ({', '.join(map(str, d.n_sides))}): the "
+              f"finite-size table and figure compare every n_side; every other table, fit and "
+              f"figure reads n_side = {n} only, the largest with done jobs (the closest to an "
+              "infinite brush), so no group mixes brush sizes.")
     return s
+
+
+SIZE_DEFINITION = """\
+* **Finite size**: the plateau of each (k̃, σ̃) read as above at every n_side on its own (each
+  n_side's seeds are other brushes: a bootstrap per n_side). *Change* = plateau(n_side) /
+  plateau(largest n_side) − 1, in brackets the range the two seed intervals allow
+  ([lo/hi′ − 1, hi/lo′ − 1]); *within the seed scatter* when that range holds 0. The preset's
+  bias is the same at every n_side and cancels from the ratio to first order.
+"""
+
+
+def _definitions(d) -> str:
+    return DEFINITIONS + (SIZE_DEFINITION if d.n_sides else "")
 
 
 def markdown(d, tables, figures, seconds=None) -> str:
@@ -61,7 +80,7 @@ def markdown(d, tables, figures, seconds=None) -> str:
             "number); `report.html` is this page with the figures embedded.", ""]
     for t in tables:
         out += [f"## {t.title} (`{t.name}.csv`)", "", t.markdown()]
-    out += ["## Definitions", "", DEFINITIONS, "## Figures", ""]
+    out += ["## Definitions", "", _definitions(d), "## Figures", ""]
     for title, p in figures:
         out += [f"### {title}", "", f"![{title}]({os.path.basename(p)})", ""]
     return "\n".join(out)
@@ -82,9 +101,9 @@ def _inline(text: str) -> str:
     return re.sub(r"`(.+?)`", r"<code>\1</code>", t)
 
 
-def _definitions_html() -> str:
+def _definitions_html(text: str) -> str:
     items, cur = [], []
-    for line in DEFINITIONS.splitlines():
+    for line in text.splitlines():
         if line.startswith("* ") and cur:
             items.append(" ".join(cur))
             cur = []
@@ -105,7 +124,7 @@ def html_page(d, tables, figures, seconds=None) -> str:
     parts += [f"</div><p>{_inline(summ)}</p>"]
     for t in tables:
         parts += [f"<h2>{html.escape(t.title)}</h2>", t.html()]
-    parts += ["<h2>Definitions</h2>", _definitions_html(), "<h2>Figures</h2>"]
+    parts += ["<h2>Definitions</h2>", _definitions_html(_definitions(d)), "<h2>Figures</h2>"]
     for ftitle, p in figures:
         with open(p, "rb") as fh:
             b64 = base64.b64encode(fh.read()).decode("ascii")

@@ -2,10 +2,11 @@
 
 The orchestrator: it reads the campaign (:func:`.data.load_campaign`), turns it into numbers
 (:func:`.report_data.build`: the plateau, c, c0 per (k~, sigma~), alpha/beta per k~, seed
-intervals, the preset's bias, the law comparison), draws the figures (:mod:`.figures`,
-:mod:`.figures_coeff`), writes the tables (:mod:`.tables`) as CSV, and the pages
-(:mod:`.page`): ``README.md`` and the self-contained ``report.html``. Any file ``status``
-reads, it reads: a campaign with nothing to fit gets a page that says why.
+intervals, the preset's bias, the law comparison; per n_side for a grid sweeping it), draws the
+figures (:mod:`.figures`, :mod:`.figures_coeff`, :mod:`.figures_size`), writes the tables
+(:mod:`.tables`) as CSV, and the pages (:mod:`.page`): ``README.md`` and the self-contained
+``report.html``. Any file ``status`` reads, it reads: a campaign with nothing to fit gets a page
+that says why.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import os
 import time
 
 from ...io.files import write_text_atomically
-from . import figures, figures_coeff, page, tables
+from . import figures, figures_coeff, figures_size, page, tables
 from ..laws.study import N_BOOT
 from .data import load_campaign
 from .report_data import build
@@ -48,7 +49,8 @@ def write_report(path: str, out_dir: str, n_boot: int = N_BOOT,
     c = load_campaign(path, curves=True, include_unchecked=include_unchecked)
     d = build(c, path, n_boot=n_boot)
     os.makedirs(out_dir, exist_ok=True)
-    kms = tables.machines(c.jobs)
+    jobs = d.main_jobs(c.jobs)         # a grid sweeping n_side: the largest brush's jobs
+    kms = tables.machines(jobs)
     figs = [
         ("Pull-off force against preload: linear axes (as the paper) and log axes",
          figures.fa_vs_fp(d, out_dir)),
@@ -58,15 +60,19 @@ def write_report(path: str, out_dir: str, n_boot: int = N_BOOT,
         ("Plateau against roughness and against stiffness", figures_coeff.plateau(d, out_dir)),
         ("α, β and σ̃_c against stiffness", figures_coeff.alpha_sigma_c(d, out_dir)),
         ("Force and contact area against indentation (loading and unloading)",
-         figures.curves(chosen_curve_jobs(c.jobs, d.studies), out_dir)),
+         figures.curves(chosen_curve_jobs(jobs, d.studies), out_dir)),
     ]
     if len(kms) > 1:
         figs.append(("Peak tension and final jump-off against the machine stiffness",
-                     figures.machine(c.jobs, out_dir)))
+                     figures.machine(jobs, out_dir)))
     tabs = [tables.alpha_beta(d), tables.plateau(d), tables.coefficients(d),
             tables.law_comparison(d)]
     if len(kms) > 1:
-        tabs.append(tables.machine_table(c.jobs))
+        tabs.append(tables.machine_table(jobs))
+    if d.n_sides:                      # finite size first: the question a size sweep asks
+        figs.insert(0, ("Finite size: the plateau against the brush size n_side, and its change "
+                        "against the largest", figures_size.plateau_vs_n_side(d, out_dir)))
+        tabs.insert(0, tables.finite_size(d))
     files = [p for _, p in figs]
     for t in tabs:
         p = os.path.join(out_dir, f"{t.name}.csv")

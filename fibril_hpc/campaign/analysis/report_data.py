@@ -4,7 +4,10 @@ headline (what the campaign gives, and why not where it gives nothing).
 
 Reads any campaign :func:`.data.load_campaign` reads: failed and non-finite jobs are counted
 and left out, a machine sweep is reported at its stiffest machine, a campaign still being
-written is read as far as it got.
+written is read as far as it got. A grid sweeping the brush size n_side is read at its largest
+n_side with done jobs (the closest to an infinite brush: every per-(k~, sigma~) table, fit and
+figure), and every n_side is read the same way for the finite-size section
+(:mod:`.laws.size`); brush sizes are never mixed in one group.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import numpy as np
 from ..laws import fit as _fit
 from ..laws.intervals import dominant, preset_bias
 from ..laws.reading import levels
+from ..laws.size import size_rows
 from ..laws.study import N_BOOT, study
 
 #: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
@@ -59,6 +63,18 @@ class ReportData:
     means: dict                     # {(k~, sigma~): Levels}
     headline: list = field(default_factory=list)
     n_boot: int = N_BOOT
+    #: a grid sweeping n_side: its brush sizes (grid and done jobs), [] otherwise
+    n_sides: list = field(default_factory=list)
+    #: the brush size every per-(k~, sigma~) reading uses (the largest with done jobs)
+    n_side: int | None = None
+    #: the finite-size rows (:class:`.laws.size.SizeRow`), per (k~, sigma~, n_side)
+    size: list = field(default_factory=list)
+
+    def main_jobs(self, jobs) -> list:
+        """The jobs the per-(k~, sigma~) readings use: those of :attr:`n_side` (all jobs when
+        the grid does not sweep it)."""
+        return list(jobs) if self.n_side is None else [j for j in jobs
+                                                       if j.get("n_side") == self.n_side]
 
 
 def _finite(j) -> bool:
@@ -99,6 +115,18 @@ def campaign_preset(meta, jobs) -> tuple[str, float | None]:
                 epd = None
             return str(d.get("preset", "default")), epd
     return "", None
+
+
+def grid_n_sides(meta) -> list:
+    """The ``sweep.n_side`` values of the file's own grid (``campaign_yaml``), or []."""
+    import yaml
+
+    try:
+        grid = yaml.safe_load(meta.get("campaign_yaml") or "") or {}
+        values = (grid.get("sweep") or {}).get("n_side") or []
+        return sorted(int(n) for n in values)
+    except (yaml.YAMLError, AttributeError, TypeError, ValueError):
+        return []
 
 
 def _seed_log_sd(pts) -> float:
@@ -164,12 +192,40 @@ def headline(d: ReportData) -> list:
             f"{name}: the seeds in {v.count('seeds')}, the discretisation in "
             f"{v.count('discretisation')} of {len(v)} (k~, sigma~)" for name, v in dom.items())
             + ".")
+    if d.n_sides:
+        lines.append(size_headline(d))
     if math.isfinite(d.bias):
         lines.append(f"Discretisation bias: {d.bias_note} ({100 * d.bias:+.1f} % on every "
                      "force-like number; measured on one scene, carried over as an assumption).")
     else:
         lines.append(f"Discretisation bias: {d.bias_note}.")
     return lines
+
+
+def size_headline(d: ReportData) -> str:
+    """The finite-size line of the headline: per smaller n_side, the range of the plateau's
+    relative change against the largest n_side, and in how many (k~, sigma~) it is within the
+    seed scatter."""
+    ref = max(d.n_sides)
+    text = (f"Finite size: n_side = {', '.join(map(str, d.n_sides))}; the other tables and "
+            f"figures read n_side = {d.n_side if d.n_side is not None else '—'}"
+            + (" (the largest with done jobs)" if d.n_side not in (None, ref) else "")
+            + f". Plateau against n_side = {ref}: ")
+    parts = []
+    for n in d.n_sides:
+        rows = [r for r in d.size if r.n_side == n and n != ref]
+        rel = sorted(100 * r.rel for r in rows if math.isfinite(r.rel))
+        if n == ref or not rows:
+            continue
+        if not rel:
+            parts.append(f"n_side = {n}: no relative change (no plateau at {ref})")
+            continue
+        within = sum(r.verdict == "within the seed scatter" for r in rows)
+        known = sum(r.verdict in ("within the seed scatter", "differs") for r in rows)
+        parts.append(f"n_side = {n}: {rel[0]:+.1f} … {rel[-1]:+.1f} %"
+                     + (f" (within the seed scatter in {within} of {known} (k~, sigma~))"
+                        if known else ""))
+    return text + ("; ".join(parts) if parts else "no smaller n_side with a plateau yet") + "."
 
 
 def build(c, path: str, n_boot: int = N_BOOT) -> ReportData:
@@ -179,14 +235,28 @@ def build(c, path: str, n_boot: int = N_BOOT) -> ReportData:
     # a grid sweeping the machine repeats every (k~, sigma~, preload, seed): the readings take
     # the stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
     jobs = [j for j in done if not kms or float(j.get("k_machine", math.inf)) == kms[0]]
-    points = points_by_group(jobs)
-    studies = study(points, n_boot=n_boot)
+    n_sides, n_read, rows = [], None, []
+    if c.n_side_swept:
+        # every brush size read as one campaign; the per-(k~, sigma~) readings at the largest
+        by_n = {n: points_by_group([j for j in jobs if j.get("n_side") == n])
+                for n in sorted({j["n_side"] for j in jobs if j.get("n_side") is not None})}
+        by_n = {n: p for n, p in by_n.items() if p}
+        n_sides = sorted(set(by_n) | set(grid_n_sides(c.meta)))
+        size_studies = {n: study(p, n_boot=n_boot) for n, p in by_n.items()}
+        if by_n:
+            n_read = max(by_n)
+            rows = size_rows(size_studies, max(n_sides))
+        points = by_n.get(n_read, {})
+        studies = size_studies.get(n_read, {})
+    else:
+        points = points_by_group(jobs)
+        studies = study(points, n_boot=n_boot)
     preset, epd = campaign_preset(c.meta, done)
     bias, note = preset_bias(preset, epd) if preset else (math.nan, "no scene to tell the preset")
     d = ReportData(path, dict(c.meta), len(c.jobs), len(done),
                    sum(1 for j in c.jobs if j.get("status") != "done"),
                    sum(1 for j in done if not _finite(j)), kms, preset, bias, note, studies,
                    law_rows(points, studies), {k: levels(*p) for k, p in points.items()},
-                   n_boot=n_boot)
+                   n_boot=n_boot, n_sides=n_sides, n_side=n_read, size=rows)
     d.headline = headline(d)
     return d

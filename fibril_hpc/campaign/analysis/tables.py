@@ -209,6 +209,39 @@ def law_comparison(d) -> Table:
     return t
 
 
+def finite_size(d) -> Table:
+    """Per (k~, sigma~, n_side): the plateau with its seed interval, and its relative change
+    against the largest n_side of the grid (:mod:`.laws.size`)."""
+    ref = max(d.n_sides) if d.n_sides else None
+    t = Table("finite_size", f"Finite size: the plateau against the brush size n_side "
+              f"(relative to n_side = {ref})")
+    t.csv_rows.append(["k_tilde", "sigma_tilde", "n_side", "plateau", "plateau_lo", "plateau_hi",
+                       "state", "n_seeds", "reference_n_side", "rel_change", "rel_change_lo",
+                       "rel_change_hi", "verdict", "note"])
+    t.page_rows.append(["k̃", "σ̃", "n_side", "plateau [seed CI]", "state", "seeds",
+                        f"change against n_side = {ref} [range of the seed CIs]", "verdict",
+                        "note"])
+    for r in d.size:
+        note = "; ".join(r.notes)
+        t.csv_rows.append([repr(r.k_tilde), repr(r.sigma_tilde), str(r.n_side), num(r.plateau),
+                           *_ci_csv(r.plateau_ci), r.state, str(r.n_seeds), str(r.ref_n_side),
+                           num(r.rel), *_ci_csv(r.rel_ci), r.verdict, note])
+        if r.n_side == r.ref_n_side:
+            change = "reference"
+        elif not math.isfinite(r.rel):
+            change = "—"
+        else:
+            ci = r.rel_ci
+            change = f"{100 * r.rel:+.2f} %" + (
+                f" [{100 * ci[0]:+.2f}, {100 * ci[1]:+.2f}] %" if math.isfinite(ci[0]) else "")
+        state = r.state if r.state == "reached" else f"**{r.state}**"
+        verdict = f"**{r.verdict}**" if r.verdict == "differs" else r.verdict
+        t.page_rows.append([f"{r.k_tilde:g}", f"{r.sigma_tilde:g}", str(r.n_side),
+                            val_ci(r.plateau, r.plateau_ci), state, str(r.n_seeds), change,
+                            verdict, note])
+    return t
+
+
 def machines(jobs) -> list:
     """The distinct machine stiffnesses k~_m of the done jobs, stiffest (``inf``) first."""
     return sorted({float(j.get("k_machine", math.inf)) for j in jobs

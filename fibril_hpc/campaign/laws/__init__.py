@@ -4,8 +4,9 @@ Owns :mod:`.fit` (the "linear, then plateau" laws of F~_A(F~_P), fitted in log F
 ``F_P: auto`` planner places preloads around their kink), :mod:`.reading` (one (k~, sigma~)
 read without a law: the plateau, the first-contact slope c0 and the adhesion coefficient c),
 :mod:`.alphabeta` (c(sigma~) = alpha/sigma~ - beta, cut at 0, and sigma~_c), :mod:`.intervals`
-(seed intervals by a bootstrap over seeds, the preset's discretisation bias) and :mod:`.study`
-(all of it per k~). Used by the ``F_P: auto`` planner and by the report.
+(seed intervals by a bootstrap over seeds, the preset's discretisation bias), :mod:`.study`
+(all of it per k~) and :mod:`.size` (the plateau against the brush size n_side). Used by the
+``F_P: auto`` planner and by the report.
 
 May import: nothing of the campaign wing (its lowest layer); the core's errors.
 """
