@@ -80,6 +80,7 @@ def test_closed_pipe_is_quiet(cmd):
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHIPPED = {"demo": "campaigns/demo.yaml", "paper": "campaigns/paper.yaml",
+           "finite_size": "campaigns/finite_size.yaml",
            "campaign.sbatch": "slurm/campaign.sbatch", "array.sbatch": "slurm/array.sbatch",
            "chain.sh": "slurm/chain.sh"}
 
