@@ -269,18 +269,21 @@ def _plateau(n):
     return 1.0 - 1.0 / n             # a finite-size law the report must read back
 
 
-def _synthetic(tmp_path, grid, noise=0.01):
+def _synthetic(tmp_path, grid, noise=0.01, scenes=True):
     """A campaign written through the real store whose F~_A rises to a plateau that depends on
     n_side (each seed's brush a fixed ``noise`` off the next one's); every record carries its
     stored scene, as real records do."""
     spec = spec_from_dict(grid, base_dir=str(tmp_path))
     recs = []
-    for i, j in enumerate(spec.jobs):
+    jobs = spec.jobs if spec.auto is None else [
+        j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
+    for i, j in enumerate(jobs):
         n = dict(j.extra).get("n_side", spec.base.n_side)
         fa = _plateau(n) * math.tanh(j.preload / 0.1) * (1 + noise * (j.seed - 1))
         recs.append({**j.inputs(), "status": "done", "message": "", "F_P": j.preload, "F_A": fa,
                      "record_id": f"{i:032x}", "finished": store.now(), "group_size": 1,
-                     "wall_s": 0.0, "scene_yaml": scene_to_yaml(spec.job_scene(j))})
+                     "wall_s": 0.0,
+                     **({"scene_yaml": scene_to_yaml(spec.job_scene(j))} if scenes else {})})
     store.write_merged(spec.output, store.root_attrs_for(spec), recs)
     return spec.output
 
@@ -321,6 +324,19 @@ def test_the_report_reads_the_plateau_per_brush_size(tmp_path):
     assert "Finite size: n_side = 4, 8, 16" in page
     assert "**Finite size**" in (rep / "report.html").read_text().replace("<strong>", "**") \
         .replace("</strong>", "**")
+
+
+@pytest.mark.parametrize("preloads", [[0.1, 1.0], "auto"])
+def test_a_record_without_a_stored_scene_gets_its_size_from_its_key(tmp_path, preloads):
+    grid = {**REPORT_GRID, "F_P": preloads, "seeds": 1, "k_tilde": [1.0], "sigma_tilde": [0.5]}
+    path = _synthetic(tmp_path, grid, scenes=False)
+    c = load_campaign(path)
+    spec = spec_from_dict(grid, base_dir=str(tmp_path))
+    assert not c.foreign and len(c) == (len(spec.jobs) or 3 * len(spec.auto.start))
+    by_key = {j.key: dict(j.extra)["n_side"] for j in spec.jobs} or {
+        j.key: p[3] for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs}
+    assert {j["key"]: j["n_side"] for j in c.jobs} == by_key
+    assert sorted(set(by_key.values())) == [4, 8, 16]
 
 
 def test_a_grid_without_the_size_sweep_gets_no_finite_size_section(tmp_path):

@@ -11,7 +11,7 @@ import numpy as np
 
 from ...errors import ConfigError, StoreError
 from ..plan.axes import record_n_side
-from ..storage.grids import stored_grids
+from ..storage.grids import GridIndex, stored_grids
 from ..storage.record import COLUMNS, JobRecord
 from ..storage.store import read_snapshot
 from . import dataset
@@ -191,7 +191,8 @@ def grid_sweeps_n_side(meta: dict) -> bool:
 
 
 def fill_n_side(rec: dict) -> dict:
-    """Set a record's ``n_side`` from its stored scene (:func:`.plan.axes.record_n_side`)."""
+    """Set a record's ``n_side`` from its stored scene (:func:`.plan.axes.record_n_side`); a
+    record without one gets it from its key when its grid sweeps n_side (:func:`load_campaign`)."""
     rec["n_side"] = record_n_side(rec)
     return rec
 
@@ -230,6 +231,12 @@ def load_campaign(path: str, curves: bool = True, include_unchecked: bool = Fals
         log.warning("%s: %d foreign member(s) of /jobs left out (%s%s): `fibril-campaign verify "
                     "%s` says why", path, len(keys), ", ".join(k[:40] for k in keys[:3]),
                     " ..." if len(keys) > 3 else "", path)
-    jobs = sorted((fill_n_side(fill_k_machine(r)) for r in recs.values()), key=_sort_key)
+    jobs = [fill_n_side(fill_k_machine(r)) for r in recs.values()]
+    if any(j["n_side"] is None for j in jobs) and grid_sweeps_n_side(snap.root):
+        index = GridIndex.of_root(snap.root)     # no stored scene: the grid knows the key's size
+        for j in jobs:
+            if j["n_side"] is None:
+                j["n_side"] = index.n_side_of(j)
+    jobs.sort(key=_sort_key)
     return CampaignData(snap.root, jobs, snap.pending, snap.corrupt, snap.unchecked_keys,
                         snap.foreign)

@@ -28,8 +28,9 @@ log = logging.getLogger(__name__)
 
 @functools.lru_cache(maxsize=8)
 def _grid(campaign_yaml: str):
-    """(frozenset of job keys, auto spec or None) of one stored grid; None when it cannot be
-    rebuilt. Cached: the same file is read by several commands of one process."""
+    """(frozenset of job keys, auto spec or None, {key: n_side} of a fixed grid sweeping
+    n_side) of one stored grid; None when it cannot be rebuilt. Cached: the same file is read
+    by several commands of one process."""
     try:
         data = yaml.safe_load(campaign_yaml)
         if not isinstance(data, dict):
@@ -39,8 +40,9 @@ def _grid(campaign_yaml: str):
     except Exception:  # noqa: BLE001 - not a grid this version can rebuild
         return None
     if spec.auto is not None:
-        return frozenset(), spec
-    return frozenset(j.key for j in spec.jobs), None
+        return frozenset(), spec, {}
+    sizes = {j.key: dict(j.extra)["n_side"] for j in spec.jobs} if "n_side" in spec.sweep else {}
+    return frozenset(j.key for j in spec.jobs), None, sizes
 
 
 def stored_grids(root: dict) -> list:
@@ -63,6 +65,7 @@ class GridIndex:
         self.keys: set = set()
         self.auto: list = []
         self.unknown = 0                 # grids that could not be rebuilt
+        self.sizes: dict = {}            # key -> n_side, of fixed grids sweeping n_side
         self._seen: dict = {}
         for y in yamls:
             g = _grid(y)
@@ -70,6 +73,7 @@ class GridIndex:
                 self.unknown += 1
                 continue
             self.keys |= g[0]
+            self.sizes.update(g[2])
             if g[1] is not None:
                 self.auto.append(g[1])
         for spec in specs:
@@ -84,6 +88,8 @@ class GridIndex:
         """Add the grid of a campaign spec (the writer's own)."""
         if spec.auto is None:
             self.keys |= {j.key for j in spec.jobs}
+            if "n_side" in spec.sweep:
+                self.sizes.update({j.key: dict(j.extra)["n_side"] for j in spec.jobs})
         else:
             self.auto.append(spec)
         self._seen.clear()
@@ -107,6 +113,14 @@ class GridIndex:
             self._seen[(key, rec.get("record_id"))] = got
         return got
 
+    def n_side_of(self, rec: dict) -> int | None:
+        """The brush size of a record of a grid sweeping n_side, found from its key (for a
+        record without a stored scene to read it from); None when no such grid holds it."""
+        n = self.sizes.get(rec.get("key"))
+        if n is None and rec.get("preload_kind") == "F_P":
+            n = next((m for spec in self.auto for m in _auto_sizes(spec, rec)), None)
+        return n
+
     def _auto_job(self, rec: dict) -> bool:
         if not self.auto or rec.get("preload_kind") != "F_P":
             return False
@@ -115,13 +129,37 @@ class GridIndex:
                 path = spec.record_path(rec)
             except (KeyError, TypeError, ValueError):
                 continue
-            if path in spec.paths():
-                try:
-                    if spec.auto_task(path, [rec.get("preload")]).jobs[0].key == rec["key"]:
-                        return True
-                except Exception:  # noqa: BLE001 - a preload the grid cannot hold
-                    continue
+            if path[3:] == (None,):      # a swept n_side that the record does not name
+                if any(True for _ in _auto_sizes(spec, rec)):
+                    return True
+                continue
+            if path in spec.paths() and _auto_key(spec, path, rec) == rec["key"]:
+                return True
         return False
+
+
+def _auto_key(spec, path, rec) -> str | None:
+    """The key of the job of an auto grid's ``path`` at the record's preload (None: none)."""
+    try:
+        return spec.auto_task(path, [rec.get("preload")]).jobs[0].key
+    except Exception:  # noqa: BLE001 - a preload the grid cannot hold
+        return None
+
+
+def _auto_sizes(spec, rec):
+    """The n_side values of an auto grid sweeping n_side whose job at the record's (k~, sigma~,
+    seed, preload) has the record's key (at most one: the keys differ by n_side)."""
+    if "n_side" not in spec.sweep:
+        return
+    try:
+        k, s, seed = float(rec["k_tilde"]), float(rec["sigma_tilde"]), int(rec["seed"])
+    except (KeyError, TypeError, ValueError):
+        return
+    paths = set(spec.paths())
+    for n in spec.n_sides:
+        path = (k, s, seed, n)
+        if path in paths and _auto_key(spec, path, rec) == rec.get("key"):
+            yield n
 
 
 def _own_key(rec: dict) -> bool:
