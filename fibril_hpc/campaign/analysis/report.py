@@ -70,6 +70,7 @@ def write_report(path: str, out_dir: str, n_boot: int = N_BOOT,
     if len(kms) > 1:
         tabs.append(tables.machine_table(jobs))
     if d.n_sides:                      # finite size first: the question a size sweep asks
+        figs = [(f"{title} (n_side = {d.n_side})", p) for title, p in figs]
         figs.insert(0, ("Finite size: the plateau against the brush size n_side, and its change "
                         "against the largest", figures_size.plateau_vs_n_side(d, out_dir)))
         tabs.insert(0, tables.finite_size(d))
