@@ -1,5 +1,6 @@
 """The moment coarse level applied by FFT on the pillar lattice (``solver.preconditioner:
-lattice``; what ``auto`` takes above ``coarse.MAX_PILLARS`` pillars).
+lattice``; what ``auto`` takes from ``factory.LATTICE_MIN_PILLARS`` pillars on, and wherever
+the dense moment level would pay).
 
 The dense moment level (:mod:`fibril_hpc.solve.moments`) keeps F^-1 over all 3 n_pillars coarse
 unknowns: (3 n)^2 memory, O((3 n)^2) per CG iteration and per set change, O((3 n)^3) per
@@ -16,11 +17,15 @@ is then solved by conjugate gradients inside every application of the preconditi
 blockdiag(D_g) = blockdiag(F_gg)^-1 as its preconditioner (each pillar's own exact block, which
 ``MomentModes`` keeps anyway), from zero, to a relative residual of ``INNER_TOL`` in the D-norm.
 The blocks-only preconditioned coarse matrix is well conditioned (condition number 3.3 on
-18 x 18, 8.4 on 36 x 36, ~25 expected on 64 x 64; benchmarks/NOTES.md), so the inner solve takes
-tens of iterations, each a few tiny FFTs; the inner solve is tight enough that the outer
-preconditioner acts as the exact one (the dense moment level's) to the outer CG. Nothing grows
-faster than n log n in the pillar count, there is no cap, and a set change only recomputes the
-changed pillars' own blocks: nothing to update, nothing to rebuild, no history.
+18 x 18, 8.4 on 36 x 36), so the inner solve takes about ten iterations on the default scenes
+(7.0 per solve on 18 x 18, 9.8 on 36 x 36), each a few tiny FFTs; it is tight enough that the
+outer CG sees the exact preconditioner (the dense moment level's): the same FFT pairs, events and
+F~_A (benchmarks/NOTES.md, "The inner tolerance of the lattice level"). A circulant inner
+preconditioner (the inverse symbol of T plus a fully attached pillar's block) was tried and
+taken out: it ignores which pillars are in contact, and took more inner iterations than the
+blocks (11.9 against 10.7 per solve on 18 x 18). Nothing grows faster than n log n in the
+pillar count, there is no cap, and a set change only recomputes the changed pillars' own
+blocks: nothing to update, nothing to rebuild, no history.
 
 Needs pillars of one footprint whose footprint origins differ by whole multiples of a lattice
 step in x and in y (square lattices; hexagonal ones as a checkerboard of half the row step), with
@@ -136,8 +141,11 @@ class LatticeMomentPreconditioner(MomentModes):
     #: the ``solver.preconditioner`` value that builds this one (``auto`` reports its choice)
     kind = "lattice"
 
-    #: relative residual of the inner coarse solve, in the D-norm (see the module docstring)
-    INNER_TOL = 1e-10
+    #: relative residual of the inner coarse solve, in the D-norm (see the module docstring):
+    #: at 1e-6 the default 18 x 18 and 36 x 36 scenes take the same FFT pairs, events and F~_A
+    #: (to 1e-11) as at 1e-10, with 34 % fewer inner iterations (benchmarks/NOTES.md, "The inner
+    #: tolerance of the lattice level"); 1e-4 already costs the 18 x 18 scene 4 more pairs
+    INNER_TOL = 1e-6
     #: inner iterations before the coarse solve is given up (a ValueError: never seen)
     INNER_MAXITER = 500
 
