@@ -74,7 +74,12 @@ class Levels:
 
 
 def levels(seed, preload, F_P, F_A) -> Levels:
-    """Group finite points by requested preload (seed statistics), merging repeated points."""
+    """Group finite points by requested preload (seed statistics), merging repeated points.
+
+    A point repeated with the same (preload, seed, F~_P, F~_A) counts once; two points of one
+    (preload, seed) with different numbers are points of different scenes (e.g. two variants
+    of a swept field) and raise a ``ValueError`` naming them, never one silently replacing the
+    other."""
     seed = np.asarray(seed)
     pre = np.asarray(preload, dtype=float)
     x = np.asarray(F_P, dtype=float)
@@ -82,8 +87,7 @@ def levels(seed, preload, F_P, F_A) -> Levels:
     ok = np.isfinite(pre) & np.isfinite(x) & np.isfinite(y)
     seed, pre, x, y = seed[ok], pre[ok], x[ok], y[ok]
     ps = np.unique(pre)
-    per = [{s: (xx, yy) for s, xx, yy in zip(seed[pre == p], x[pre == p], y[pre == p])}
-           for p in ps]
+    per = [_by_seed(p, seed[pre == p], x[pre == p], y[pre == p]) for p in ps]
     keep = []
     for i in range(len(ps)):
         nxt = per[i + 1] if i + 1 < len(ps) else None
@@ -101,6 +105,19 @@ def levels(seed, preload, F_P, F_A) -> Levels:
     cols = list(zip(*rows)) if rows else [()] * 7
     return Levels(*(np.asarray(c, dtype=float) for c in cols[:4]),
                   np.asarray(cols[4], dtype=int), *(np.asarray(c, dtype=float) for c in cols[5:]))
+
+
+def _by_seed(p, seeds, xs, ys) -> dict:
+    """{seed: (F~_P, F~_A)} of the points of one preload ``p``; a seed twice with different
+    numbers is a ``ValueError``."""
+    out: dict = {}
+    for s, xx, yy in zip(seeds, xs, ys):
+        pt = (float(xx), float(yy))
+        if out.setdefault(s, pt) != pt:
+            raise ValueError(f"two points at preload {p:g}, seed {s} with different (F~_P, F~_A):"
+                             f" ({out[s][0]:.6g}, {out[s][1]:.6g}) and ({pt[0]:.6g}, "
+                             f"{pt[1]:.6g}): points of different scenes in one group")
+    return out
 
 
 @dataclass
