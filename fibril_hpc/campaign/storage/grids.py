@@ -13,6 +13,7 @@ there) falls back to the record itself: its key must be the key of its own store
 from __future__ import annotations
 
 import functools
+import itertools
 import json
 import logging
 
@@ -27,22 +28,48 @@ log = logging.getLogger(__name__)
 
 
 @functools.lru_cache(maxsize=8)
-def _grid(campaign_yaml: str):
-    """(frozenset of job keys, auto spec or None, {key: n_side} of a fixed grid sweeping
-    n_side) of one stored grid; None when it cannot be rebuilt. Cached: the same file is read
-    by several commands of one process."""
+def _rebuilt(campaign_yaml: str):
+    """The spec of one stored grid (the same validation as ``fibril-campaign run``); None when
+    this version cannot rebuild it. Cached: the same file is read by several commands."""
     try:
         data = yaml.safe_load(campaign_yaml)
         if not isinstance(data, dict):
             return None
-        data = dict(data, output="grid-index.h5")
-        spec = spec_from_dict(data)
+        return spec_from_dict(dict(data, output="grid-index.h5"))
     except Exception:  # noqa: BLE001 - not a grid this version can rebuild
+        return None
+
+
+@functools.lru_cache(maxsize=8)
+def _grid(campaign_yaml: str):
+    """(frozenset of job keys, auto spec or None, {key: n_side} of a fixed grid sweeping
+    n_side) of one stored grid; None when it cannot be rebuilt."""
+    spec = _rebuilt(campaign_yaml)
+    if spec is None:
         return None
     if spec.auto is not None:
         return frozenset(), spec, {}
     sizes = {j.key: dict(j.extra)["n_side"] for j in spec.jobs} if "n_side" in spec.sweep else {}
     return frozenset(j.key for j in spec.jobs), None, sizes
+
+
+def job_sweeps(campaign_yaml) -> dict | None:
+    """{job key: {field: value}} of a stored fixed-preload grid with a ``sweep:``: each job's
+    swept values as the grid spells them (a file's name, not its values), read from the order in
+    which the grid enumerates its jobs (every combination of the swept values, the first field
+    outermost, holds the same number of consecutive jobs). {} for a grid without a sweep or with
+    ``F_P: auto``; None when the grid cannot be rebuilt."""
+    spec = _rebuilt(campaign_yaml) if isinstance(campaign_yaml, str) and campaign_yaml else None
+    if spec is None:
+        return None
+    if not spec.sweep or spec.auto is not None:
+        return {}
+    names = list(spec.sweep)
+    combos = list(itertools.product(*(spec.sweep[n] for n in names)))
+    per, rest = divmod(len(spec.jobs), len(combos))
+    if not per or rest:
+        return None
+    return {j.key: dict(zip(names, combos[j.index // per])) for j in spec.jobs}
 
 
 def stored_grids(root: dict) -> list:
@@ -170,4 +197,4 @@ def _own_key(rec: dict) -> bool:
         return False
 
 
-__all__ = ["GridIndex", "stored_grids"]
+__all__ = ["GridIndex", "stored_grids", "job_sweeps"]
