@@ -75,6 +75,11 @@ def _parser() -> Parser:
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
                     help="bootstrap resamples over seeds for the seed intervals (default 400)")
     rp.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
+    rp.add_argument("--where", action="append", default=[], metavar="NAME=VALUE",
+                    help="a grid sweeping lab fields (tip, heights, ...; not n_side or k_machine, "
+                         "which have their own reading): read the jobs with this swept value "
+                         "(repeatable, one per field; a field not named reads its first "
+                         "listed value), e.g. --where tip_radius=4")
     e = sub.add_parser("export", help="one row per job (CSV, Parquet) or the whole campaign "
                        "with its curves (netCDF)")
     e.add_argument("file", help="campaign HDF5 file")
@@ -405,10 +410,14 @@ def cmd_report(args) -> int:
     """Write the plots and the alpha, beta, sigma_c table."""
     from ..campaign.analysis.report import write_report
 
+    from ..campaign.analysis.variants import parse_where, swept_lab_fields
+    from ..campaign.storage.store import read_root
+
     _existing(args.file, "file")
     check_output_folder(args.out, "--out")
     if not 20 <= args.n_boot <= 100000:
         raise ConfigError("--n-boot", args.n_boot, "an integer in [20, 100000]")
+    parse_where(args.where, swept_lab_fields(read_root(args.file)), "--where")  # before writing
     try:
         os.makedirs(args.out, exist_ok=True)
     except OSError as exc:
@@ -417,7 +426,7 @@ def cmd_report(args) -> int:
     if not os.access(args.out, os.W_OK):
         raise ConfigError("--out", args.out, "a writable folder")
     files = write_report(args.file, args.out, n_boot=args.n_boot,
-                         include_unchecked=args.include_unchecked)
+                         include_unchecked=args.include_unchecked, where=args.where)
     for f in files:
         print(f)
     return EXIT_OK

@@ -13,6 +13,8 @@ import html
 import os
 import re
 
+from .variants import label, show_value
+
 DEFINITIONS = """\
 * **Plateau**: the preload-insensitive F̃_A. From the largest preload down, a preload joins the
   plateau set while its seed-mean F̃_A is not below the set's mean by more than 2 standard errors
@@ -55,6 +57,25 @@ def _summary(d) -> str:
               f"finite-size table and figure compare every n_side; every other table, fit and "
               f"figure reads n_side = {n} only, the largest with done jobs (the closest to an "
               "infinite brush), so no group mixes brush sizes.")
+    if d.variant is not None:
+        s += " " + variant_sentence(d.variant)
+    return s
+
+
+def variant_sentence(v) -> str:
+    """What a grid sweeping lab fields is read at, and what the file holds besides."""
+    swept = "; ".join(f"{n} ({', '.join(show_value(x) for x in xs)})" for n, xs in v.values.items())
+    how = ("chosen with `--where`" if v.by_where else
+           "the first listed value of each swept field; another with `--where NAME=VALUE`")
+    s = (f"The grid sweeps {swept}: every table, fit and figure reads **{v.label}** only "
+         f"({how}; {len(v.keys)} done jobs), so no group mixes variants.")
+    if v.others:
+        s += " Not read: " + "; ".join(f"{label(c)} ({n} done jobs)" for c, n in v.others) + "."
+    else:
+        s += " No other variant has done jobs in the file."
+    if v.unknown:
+        s += (f" {v.unknown} done job(s) of none of the listed combinations (another grid's "
+              "scene) are not read either.")
     return s
 
 

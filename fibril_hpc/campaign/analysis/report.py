@@ -41,15 +41,18 @@ def chosen_curve_jobs(jobs, studies, per_k: int = 1) -> list:
 
 
 def write_report(path: str, out_dir: str, n_boot: int = N_BOOT,
-                 include_unchecked: bool = False) -> list:
+                 include_unchecked: bool = False, where=None) -> list:
     """Write every figure, table, ``README.md`` and ``report.html`` of the campaign ``path``
     into ``out_dir`` (from the verified records; unchecked ones too with
-    ``include_unchecked``); returns the paths written."""
+    ``include_unchecked``); returns the paths written. ``where``: for a grid sweeping lab
+    fields, the values to read (``["tip_radius=4"]`` or ``{"tip_radius": 4}``; the fields not
+    named read their first listed value); a name or value the grid does not sweep is a
+    :class:`~fibril_hpc.errors.ConfigError`, raised before anything is written."""
     t0 = time.perf_counter()
     c = load_campaign(path, curves=True, include_unchecked=include_unchecked)
-    d = build(c, path, n_boot=n_boot)
+    d = build(c, path, n_boot=n_boot, where=where)
     os.makedirs(out_dir, exist_ok=True)
-    jobs = d.main_jobs(c.jobs)         # a grid sweeping n_side: the largest brush's jobs
+    jobs = d.main_jobs(c.jobs)         # the variant read; a grid sweeping n_side: its largest
     kms = tables.machines(jobs)
     figs = [
         ("Pull-off force against preload: linear axes (as the paper) and log axes",
@@ -69,10 +72,15 @@ def write_report(path: str, out_dir: str, n_boot: int = N_BOOT,
             tables.law_comparison(d)]
     if len(kms) > 1:
         tabs.append(tables.machine_table(jobs))
+    read = [d.variant.label] if d.variant is not None else []
+    if d.n_sides:
+        read.append(f"n_side = {d.n_side}")
+    if read:                           # each caption names what it reads
+        figs = [(f"{title} ({', '.join(read)})", p) for title, p in figs]
     if d.n_sides:                      # finite size first: the question a size sweep asks
-        figs = [(f"{title} (n_side = {d.n_side})", p) for title, p in figs]
         figs.insert(0, ("Finite size: the plateau against the brush size n_side, and its change "
-                        "against the largest", figures_size.plateau_vs_n_side(d, out_dir)))
+                        "against the largest" + (f" ({d.variant.label})" if d.variant else ""),
+                        figures_size.plateau_vs_n_side(d, out_dir)))
         tabs.insert(0, tables.finite_size(d))
     files = [p for _, p in figs]
     for t in tabs:

@@ -7,7 +7,9 @@ and left out, a machine sweep is reported at its stiffest machine, a campaign st
 written is read as far as it got. A grid sweeping the brush size n_side is read at its largest
 n_side with done jobs (the closest to an infinite brush: every per-(k~, sigma~) table, fit and
 figure), and every n_side is read the same way for the finite-size section
-(:mod:`.laws.size`); brush sizes are never mixed in one group.
+(:mod:`.laws.size`); brush sizes are never mixed in one group. A grid sweeping other lab fields
+(tip, heights, ...) is read at one combination of their values (:mod:`.variants`: the first
+listed, or the one named with ``where``); variants are never mixed in one group either.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from ..laws.intervals import dominant, preset_bias
 from ..laws.reading import levels
 from ..laws.size import size_rows
 from ..laws.study import N_BOOT, study
+from .variants import Variant, select
 
 #: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
 POOR_FACTOR = 2.0
@@ -69,10 +72,14 @@ class ReportData:
     n_side: int | None = None
     #: the finite-size rows (:class:`.laws.size.SizeRow`), per (k~, sigma~, n_side)
     size: list = field(default_factory=list)
+    #: a grid sweeping lab fields (other than k_machine, n_side): the combination read, or None
+    variant: Variant | None = None
 
     def main_jobs(self, jobs) -> list:
-        """The jobs the per-(k~, sigma~) readings use: those of :attr:`n_side` (all jobs when
-        the grid does not sweep it)."""
+        """The jobs the per-(k~, sigma~) readings use: those of :attr:`variant` and
+        :attr:`n_side` (all jobs when the grid sweeps neither)."""
+        if self.variant is not None:
+            jobs = [j for j in jobs if j.get("key") in self.variant.keys]
         return list(jobs) if self.n_side is None else [j for j in jobs
                                                        if j.get("n_side") == self.n_side]
 
@@ -83,12 +90,24 @@ def _finite(j) -> bool:
 
 
 def points_by_group(jobs) -> dict:
-    """{(k~, sigma~): (seed, preload, F_P, F_A) arrays} of the done jobs with finite numbers."""
+    """{(k~, sigma~): (seed, preload, F_P, F_A) arrays} of the done jobs with finite numbers.
+
+    Two jobs of one (k~, sigma~, preload, seed) with different numbers are jobs of different
+    scenes (a swept field, another grid's scene) that no reading may mix: a ``ValueError``
+    naming both keys (the callers read one scene per group)."""
     rows: dict = {}
+    seen: dict = {}
     for j in jobs:
         if j.get("status") == "done" and _finite(j):
-            rows.setdefault((float(j["k_tilde"]), float(j["sigma_tilde"])), []).append(
-                (int(j.get("seed", 0)), float(j["preload"]), float(j["F_P"]), float(j["F_A"])))
+            k, s, seed, pre = (float(j["k_tilde"]), float(j["sigma_tilde"]),
+                               int(j.get("seed", 0)), float(j["preload"]))
+            pt = (float(j["F_P"]), float(j["F_A"]))
+            other = seen.setdefault((k, s, pre, seed), (pt, j.get("key")))
+            if other[0] != pt:
+                raise ValueError(f"two done jobs at k~ = {k:g}, sigma~ = {s:g}, preload {pre:g}, "
+                                 f"seed {seed} with different (F~_P, F~_A): {other[1]} and "
+                                 f"{j.get('key')}: jobs of different scenes in one group")
+            rows.setdefault((k, s), []).append((seed, pre) + pt)
     return {k: tuple(np.asarray(c) for c in zip(*v)) for k, v in sorted(rows.items())}
 
 
@@ -228,13 +247,17 @@ def size_headline(d: ReportData) -> str:
     return text + ("; ".join(parts) if parts else "no smaller n_side with a plateau yet") + "."
 
 
-def build(c, path: str, n_boot: int = N_BOOT) -> ReportData:
-    """The report's numbers from a loaded campaign (:class:`.data.CampaignData`)."""
+def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
+    """The report's numbers from a loaded campaign (:class:`.data.CampaignData`); ``where``:
+    the values of the swept lab fields to read (:func:`.variants.select`: ``NAME=VALUE``
+    strings or a mapping; default the first listed value of each)."""
     done = [j for j in c.jobs if j.get("status") == "done"]
-    kms = sorted({float(j.get("k_machine", math.inf)) for j in done}, reverse=True)
+    variant = select(c.meta, done, where)
+    read = done if variant is None else [j for j in done if j.get("key") in variant.keys]
+    kms = sorted({float(j.get("k_machine", math.inf)) for j in read}, reverse=True)
     # a grid sweeping the machine repeats every (k~, sigma~, preload, seed): the readings take
     # the stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
-    jobs = [j for j in done if not kms or float(j.get("k_machine", math.inf)) == kms[0]]
+    jobs = [j for j in read if not kms or float(j.get("k_machine", math.inf)) == kms[0]]
     n_sides, n_read, rows = [], None, []
     if c.n_side_swept:
         # every brush size read as one campaign; the per-(k~, sigma~) readings at the largest
@@ -257,6 +280,6 @@ def build(c, path: str, n_boot: int = N_BOOT) -> ReportData:
                    sum(1 for j in c.jobs if j.get("status") != "done"),
                    sum(1 for j in done if not _finite(j)), kms, preset, bias, note, studies,
                    law_rows(points, studies), {k: levels(*p) for k, p in points.items()},
-                   n_boot=n_boot, n_sides=n_sides, n_side=n_read, size=rows)
+                   n_boot=n_boot, n_sides=n_sides, n_side=n_read, size=rows, variant=variant)
     d.headline = headline(d)
     return d
