@@ -15,6 +15,7 @@ from fibril_hpc.campaign import spec_from_dict
 from fibril_hpc.campaign.analysis.report import write_report
 from fibril_hpc.campaign.analysis.report_data import points_by_group
 from fibril_hpc.campaign.analysis.variants import job_variant, swept_lab_fields
+from fibril_hpc.errors import ConfigError
 from fibril_hpc.campaign.laws.reading import levels, read_group
 from fibril_hpc.campaign.run.runner import run_serial
 from fibril_hpc.campaign.storage import store
@@ -226,8 +227,9 @@ def test_points_of_two_scenes_in_one_group_name_both_jobs():
     base = {"status": "done", "k_tilde": 1.0, "sigma_tilde": 0.5, "preload": 1.0, "seed": 0,
             "F_P": 1.0}
     jobs = [dict(base, key="a" * 8, F_A=0.5), dict(base, key="b" * 8, F_A=0.6)]
-    with pytest.raises(ValueError, match="aaaaaaaa and bbbbbbbb"):
-        points_by_group(jobs)
+    with pytest.raises(ConfigError, match="aaaaaaaa and bbbbbbbb") as err:
+        points_by_group(jobs)           # a user's file: one line and exit 2 on the command line
+    assert "\n" not in str(err.value)
     same = points_by_group([jobs[0], dict(jobs[0], key="c" * 8)])      # same numbers: fine
     assert len(same[(1.0, 0.5)][0]) == 2 and len(levels(*same[(1.0, 0.5)])) == 1
 

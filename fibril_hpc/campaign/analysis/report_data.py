@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ...errors import ConfigError
 from ..laws import fit as _fit
 from ..laws.intervals import dominant, preset_bias
 from ..laws.reading import levels
@@ -93,8 +94,9 @@ def points_by_group(jobs) -> dict:
     """{(k~, sigma~): (seed, preload, F_P, F_A) arrays} of the done jobs with finite numbers.
 
     Two jobs of one (k~, sigma~, preload, seed) with different numbers are jobs of different
-    scenes (a swept field, another grid's scene) that no reading may mix: a ``ValueError``
-    naming both keys (the callers read one scene per group)."""
+    scenes (a swept field, another grid's scene) that no reading may mix: a
+    :class:`~fibril_hpc.errors.ConfigError` naming both keys (one line and exit status 2 on the
+    command line; the callers read one scene per group)."""
     rows: dict = {}
     seen: dict = {}
     for j in jobs:
@@ -103,10 +105,12 @@ def points_by_group(jobs) -> dict:
                                int(j.get("seed", 0)), float(j["preload"]))
             pt = (float(j["F_P"]), float(j["F_A"]))
             other = seen.setdefault((k, s, pre, seed), (pt, j.get("key")))
-            if other[0] != pt:
-                raise ValueError(f"two done jobs at k~ = {k:g}, sigma~ = {s:g}, preload {pre:g}, "
-                                 f"seed {seed} with different (F~_P, F~_A): {other[1]} and "
-                                 f"{j.get('key')}: jobs of different scenes in one group")
+            if other[0] != pt:           # a user's file, not a bug: one line, exit 2
+                raise ConfigError("report", f"jobs {other[1]} and {j.get('key')} (k~ = {k:g}, "
+                                  f"sigma~ = {s:g}, preload {pre:g}, seed {seed}) with different "
+                                  "F~_A", "one scene per grid point: a file whose grid points "
+                                  "hold jobs of different scenes (extended with another grid) "
+                                  "cannot be read as one campaign")
             rows.setdefault((k, s), []).append((seed, pre) + pt)
     return {k: tuple(np.asarray(c) for c in zip(*v)) for k, v in sorted(rows.items())}
 
