@@ -99,8 +99,10 @@ def main(argv=None) -> int:
                                  "threads": th, "k": a.k, "sigma": a.sigma, "F_P": a.F_P,
                                  "seed": a.seed})
                 rows.append(row)
-                print(f"  n_side {n} {pc} threads {th}: {row['cpu_s']:.1f} CPU s, "
-                      f"{row['wall_s']:.1f} wall s (load {row['load_1min']:.1f})", flush=True)
+                print(f"  n_side {n} {pc} ({row['chosen']}) threads {th}: {row['fft_pairs']} pairs, "
+                      f"{row['events']} events, {row['cpu_s']:.1f} CPU s, "
+                      f"{row['wall_s']:.1f} wall s, {row['peak_rss_mb']:.0f} MB, "
+                      f"F~_A {row['F_A']:.8f} (load {row['load_1min']:.1f})", flush=True)
     hdr = (f"{'n':>4s} {'N_p':>6s} {'precond':>10s} {'chosen':>10s} {'thr':>3s} {'m':>5s} "
            f"{'pairs':>7s} {'solves':>6s} {'events':>6s} {'pairs/ev':>8s} {'CPU s':>8s} "
            f"{'wall s':>8s} {'RSS MB':>7s} {'F~_A':>11s}")
