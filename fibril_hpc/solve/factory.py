@@ -34,10 +34,11 @@ def prefers_moments(fft_size: int, n_pillars: int) -> bool:
 
 #: ``auto`` takes the lattice level (:mod:`fibril_hpc.solve.lattice`) from this many pillars on,
 #: and below it wherever the moment level would repay its work (:func:`prefers_moments`).
-#: Measured side by side (benchmarks/NOTES.md, "The lattice coarse level"; CPU of the lattice
-#: level over the level ``auto`` took before): `default` preset 1.1x on 8 x 8, 1.0x on
-#: 12 x 12, 0.88x on 18 x 18 (the same FFT pairs as the dense moments); `fast` preset 1.06x on
-#: 18 x 18 (the force level keeps it), 0.92x on 24 x 24 and 0.59x on 36 x 36
+#: Measured side by side (benchmarks/NOTES.md, "The lattice coarse level, and brushes to
+#: 100 x 100"; CPU of the lattice level over the level ``auto`` took before it): `default`
+#: preset 1.0x on 8 x 8 and 12 x 12, 0.82x on 18 x 18 (the same FFT pairs as the dense
+#: moments); `fast` preset 1.02x on 18 x 18 (the force level keeps it, though the lattice level
+#: takes 28 % fewer pairs), 0.90x on 24 x 24 and 0.54x on 36 x 36
 LATTICE_MIN_PILLARS = 400
 
 
