@@ -4,8 +4,9 @@ Solves A p = b on S, A = K_SS + alpha B B^T (alpha = h^2/k; alpha = 0 for rigid 
 spring work is skipped inside the kernels). The preconditioner is chosen by
 ``SolverOptions.preconditioner``: by default (``"auto"``) the exact per-pillar block Jacobi one
 plus a coarse level wherever all pillars share one footprint (three moments per pillar in contact,
-:mod:`fibril_hpc.solve.moments`, where the FFT is dear enough, else one force, :mod:`fibril_hpc.solve.coarse`;
-block Jacobi alone above ``coarse.MAX_PILLARS`` pillars), else the
+:mod:`fibril_hpc.solve.moments`, where the FFT is dear enough, applied by FFT on the pillar lattice
+from 400 pillars on, :mod:`fibril_hpc.solve.lattice`; else one force, :mod:`fibril_hpc.solve.coarse`;
+block Jacobi alone above ``coarse.MAX_PILLARS`` pillars off any lattice), else the
 Sherman-Morrison diagonal one P = c0 I + alpha B B^T (see :mod:`fibril_hpc.solve.precond`). The
 stopping test is measured against the half-space part of the operator, ||r|| <= tol ||K p||_S
 (+ a floor of 1e3 eps ||b||), because for soft springs most of b goes into the springs and
