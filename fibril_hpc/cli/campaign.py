@@ -147,13 +147,14 @@ def main(argv=None) -> int:
         return error(PROG, OUT_OF_MEMORY) if launcher_rank() == 0 else EXIT_USAGE
 
 
-def _existing(path, field):
+def _existing(path, field) -> dict:
+    """The root attributes of an existing campaign file (read once, checked)."""
     from ..campaign.storage.store import read_root
 
     if not os.path.isfile(path):
         raise ConfigError(field, path, "an existing campaign file")
     try:
-        read_root(path)                # a damaged file: DamagedFileError, one line, exit 2
+        return read_root(path)         # a damaged file: DamagedFileError, one line, exit 2
     except DamagedFileError:
         raise
     except StoreError:
@@ -409,15 +410,13 @@ def cmd_salvage(args) -> int:
 def cmd_report(args) -> int:
     """Write the plots and the alpha, beta, sigma_c table."""
     from ..campaign.analysis.report import write_report
-
     from ..campaign.analysis.variants import parse_where, swept_lab_fields
-    from ..campaign.storage.store import read_root
 
-    _existing(args.file, "file")
+    root = _existing(args.file, "file")
     check_output_folder(args.out, "--out")
     if not 20 <= args.n_boot <= 100000:
         raise ConfigError("--n-boot", args.n_boot, "an integer in [20, 100000]")
-    parse_where(args.where, swept_lab_fields(read_root(args.file)), "--where")  # before writing
+    parse_where(args.where, swept_lab_fields(root), "--where")       # before writing anything
     try:
         os.makedirs(args.out, exist_ok=True)
     except OSError as exc:
