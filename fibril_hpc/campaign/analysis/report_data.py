@@ -23,7 +23,7 @@ from ...errors import ConfigError
 from ..laws import fit as _fit
 from ..laws.intervals import dominant, preset_bias
 from ..laws.reading import levels
-from ..laws.size import size_rows
+from ..laws.size import DIFFERS, WITHIN, size_rows
 from ..laws.study import N_BOOT, study
 from .variants import Variant, select
 
@@ -243,8 +243,8 @@ def size_headline(d: ReportData) -> str:
         if not rel:
             parts.append(f"n_side = {n}: no relative change (no plateau at {ref})")
             continue
-        within = sum(r.verdict == "within the seed scatter" for r in rows)
-        known = sum(r.verdict in ("within the seed scatter", "differs") for r in rows)
+        within = sum(r.verdict == WITHIN for r in rows)
+        known = sum(r.verdict in (WITHIN, DIFFERS) for r in rows)
         parts.append(f"n_side = {n}: {rel[0]:+.1f} … {rel[-1]:+.1f} %"
                      + (f" (within the seed scatter in {within} of {known} (k~, sigma~))"
                         if known else ""))

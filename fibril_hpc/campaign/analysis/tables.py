@@ -16,6 +16,7 @@ import re
 from dataclasses import dataclass, field
 
 from ..laws.intervals import dominant
+from ..laws.size import DIFFERS
 
 
 @dataclass
@@ -235,7 +236,7 @@ def finite_size(d) -> Table:
             change = f"{100 * r.rel:+.2f} %" + (
                 f" [{100 * ci[0]:+.2f}, {100 * ci[1]:+.2f}] %" if math.isfinite(ci[0]) else "")
         state = r.state if r.state == "reached" else f"**{r.state}**"
-        verdict = f"**{r.verdict}**" if r.verdict == "differs" else r.verdict
+        verdict = f"**{r.verdict}**" if r.verdict == DIFFERS else r.verdict
         t.page_rows.append([f"{r.k_tilde:g}", f"{r.sigma_tilde:g}", str(r.n_side),
                             val_ci(r.plateau, r.plateau_ci), state, str(r.n_seeds), change,
                             verdict, note])
