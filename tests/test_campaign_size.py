@@ -171,6 +171,28 @@ def test_a_swept_campaign_reuses_the_unswept_records_and_resumes(runs):
         {k: j["record_id"] for k, j in full.items()}
 
 
+def test_the_dry_run_prices_each_brush_size_by_its_own_finished_jobs(runs, tmp_path,
+                                                                    monkeypatch):
+    """A size sweep mixes jobs whose costs differ by orders of magnitude: the estimate takes
+    each size's measured mean where that size has finished jobs, the model where it has none."""
+    from fibril_hpc.campaign.analysis import status
+
+    d, _ = runs
+    monkeypatch.setattr(status, "task_seconds", lambda *a: 1000.0)   # the model, marked
+    shutil.copy(d / "plain.h5", tmp_path / "size.h5")                # n_side 2 done, 3 not
+    pl = status.plan(spec_from_dict(GRID, base_dir=str(tmp_path)))
+    assert {t.scene.n_side for t in pl.tasks} == {3} and len(pl.to_run) == 4
+    assert pl.estimate_s == 1000.0 * len(pl.tasks)
+    assert "per brush size" in pl.how and pl.how.endswith("model for n_side 3")
+    # both sizes measured: a third preload is priced by each size's own mean
+    shutil.copy(d / "size.h5", tmp_path / "size.h5")
+    pl = status.plan(spec_from_dict({**GRID, "F_P": [0.3, 1.0, 2.0]}, base_dir=str(tmp_path)))
+    df = load_campaign(str(tmp_path / "size.h5")).to_dataframe()
+    mean = (df["wall_s"] / df["group_size"]).groupby(df["n_side"]).mean()
+    assert pl.estimate_s == pytest.approx(2 * mean[2] + 2 * mean[3], rel=1e-12)
+    assert "model" not in pl.how
+
+
 def test_every_reader_keeps_the_brush_sizes_apart(runs, capsys):
     xr = pytest.importorskip("xarray")
     d, _ = runs

@@ -13,6 +13,7 @@ import yaml
 
 from ...errors import StoreError
 from ..plan.auto import path_todo, results_by_path
+from ..plan.axes import record_n_side
 from ..plan.estimate import fft_pair_seconds, task_seconds
 from ..plan.spec import spec_from_dict
 from ..storage.store import read_records
@@ -116,14 +117,15 @@ class Plan:
 def plan(spec, retry_failed: bool = False) -> Plan:
     """The jobs of ``spec`` still to run in its output file, and their estimated cost.
 
-    The estimate is the measured mean per job of the finished jobs when there are any, else
-    the cost model of :mod:`fibril_hpc.campaign.plan.estimate`.
+    The estimate is, per brush size, the measured mean per job of the finished jobs of that
+    size when there are any, else the cost model of :mod:`fibril_hpc.campaign.plan.estimate`
+    (a grid that sweeps ``n_side`` mixes brushes whose jobs differ in cost by 100x and more).
     """
     jobs = spec.jobs if spec.auto is None else [    # F_P: auto: its round 0 only
         j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
     todo = {j.key for j in jobs}
     done = failed = 0
-    walls = []
+    walls = {}                  # n_side -> per-job wall seconds of the finished jobs
     if os.path.exists(spec.output):
         try:
             _, recs, _ = read_records(spec.output, curves=False)
@@ -132,7 +134,8 @@ def plan(spec, retry_failed: bool = False) -> Plan:
         for k, r in recs.items():
             if r.get("status") == "done":
                 done += k in todo
-                walls.append(float(r.get("wall_s", 0.0)) / max(1, int(r.get("group_size", 1))))
+                walls.setdefault(record_n_side(r), []).append(
+                    float(r.get("wall_s", 0.0)) / max(1, int(r.get("group_size", 1))))
                 todo.discard(k)
             elif r.get("status") == "failed":
                 failed += k in todo
@@ -147,15 +150,30 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                  if any(j.key in todo for j in t.jobs)]
     timed = {n: fft_pair_seconds(spec.base if n == spec.base.n_side else
                                  spec.base.replace(n_side=n)) for n in spec.n_sides}
-    est = sum(task_seconds(t.scene, timed[t.scene.n_side][0], timed[t.scene.n_side][2])
-              for t in tasks)
+    if len(spec.n_sides) == 1:  # one brush size: every finished job counts, as it always did
+        walls = {spec.n_sides[0]: [w for ws in walls.values() for w in ws]} if walls else {}
+    est, modelled = 0.0, set()
+    for t in tasks:
+        n = t.scene.n_side
+        if walls.get(n):
+            est += sum(walls[n]) / len(walls[n]) * len(t.jobs)
+        else:
+            est += task_seconds(t.scene, timed[n][0], timed[n][2])
+            modelled.add(n)
     pair_s, m, epp = timed[max(timed)]           # the largest brush's (the base scene's)
-    how = "model"
-    if walls:
-        est = sum(walls) / len(walls) * len(todo)
-        how = f"measured mean of {len(walls)} finished jobs"
+    how = _how(sum(len(w) for w in walls.values()), modelled, len(spec.n_sides) > 1)
     return Plan(done=done, failed=failed, to_run=todo, tasks=tasks, fft_pair_s=pair_s,
                 fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how)
+
+
+def _how(n_walls: int, modelled: set, swept: bool) -> str:
+    """How :func:`plan`'s estimate was made, for the dry-run line."""
+    if not n_walls:
+        return "model"
+    how = f"measured mean{' per brush size' if swept else ''} of {n_walls} finished jobs"
+    if modelled:
+        how += f"; model for n_side {', '.join(str(n) for n in sorted(modelled))}"
+    return how
 
 
 __all__ = ["file_status", "FileStatus", "plan", "Plan"]
