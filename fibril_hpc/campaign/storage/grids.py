@@ -94,6 +94,7 @@ class GridIndex:
         self.unknown = 0                 # grids that could not be rebuilt
         self.sizes: dict = {}            # key -> n_side, of fixed grids sweeping n_side
         self._seen: dict = {}
+        self._paths: dict = {}           # id(auto spec) -> the set of its loading paths
         for y in yamls:
             g = _grid(y)
             if g is None:
@@ -145,8 +146,17 @@ class GridIndex:
         record without a stored scene to read it from); None when no such grid holds it."""
         n = self.sizes.get(rec.get("key"))
         if n is None and rec.get("preload_kind") == "F_P":
-            n = next((m for spec in self.auto for m in _auto_sizes(spec, rec)), None)
+            n = next((m for spec in self.auto
+                      for m in _auto_sizes(spec, self._path_set(spec), rec)), None)
         return n
+
+    def _path_set(self, spec) -> frozenset:
+        """The loading paths of an auto grid of this index, as a set made once (a file of many
+        records asks for every record)."""
+        got = self._paths.get(id(spec))
+        if got is None:
+            got = self._paths[id(spec)] = frozenset(spec.paths())
+        return got
 
     def _auto_job(self, rec: dict) -> bool:
         if not self.auto or rec.get("preload_kind") != "F_P":
@@ -156,11 +166,12 @@ class GridIndex:
                 path = spec.record_path(rec)
             except (KeyError, TypeError, ValueError):
                 continue
+            paths = self._path_set(spec)
             if path[3:] == (None,):      # a swept n_side that the record does not name
-                if any(True for _ in _auto_sizes(spec, rec)):
+                if any(True for _ in _auto_sizes(spec, paths, rec)):
                     return True
                 continue
-            if path in spec.paths() and _auto_key(spec, path, rec) == rec["key"]:
+            if path in paths and _auto_key(spec, path, rec) == rec["key"]:
                 return True
         return False
 
@@ -173,16 +184,16 @@ def _auto_key(spec, path, rec) -> str | None:
         return None
 
 
-def _auto_sizes(spec, rec):
-    """The n_side values of an auto grid sweeping n_side whose job at the record's (k~, sigma~,
-    seed, preload) has the record's key (at most one: the keys differ by n_side)."""
+def _auto_sizes(spec, paths, rec):
+    """The n_side values of an auto grid sweeping n_side (its loading ``paths``, a set) whose job
+    at the record's (k~, sigma~, seed, preload) has the record's key (at most one: the keys
+    differ by n_side)."""
     if "n_side" not in spec.sweep:
         return
     try:
         k, s, seed = float(rec["k_tilde"]), float(rec["sigma_tilde"]), int(rec["seed"])
     except (KeyError, TypeError, ValueError):
         return
-    paths = set(spec.paths())
     for n in spec.n_sides:
         path = (k, s, seed, n)
         if path in paths and _auto_key(spec, path, rec) == rec.get("key"):
