@@ -209,6 +209,62 @@ def test_a_real_swept_campaign_reads_each_variant_as_its_own_grid(tmp_path):
     assert abs(a / b - 1) > 0.03        # the variants differ: a mixture would be neither
 
 
+def test_every_table_keeps_the_variants_apart(tmp_path):
+    """DataFrame, CSV, Parquet and netCDF carry each swept lab field: the rows of two variants
+    at one (k~, sigma~, preload, seed) are told apart, each by its own value."""
+    xr = pytest.importorskip("xarray")
+    from fibril_hpc.campaign.analysis.export import export_csv, export_netcdf
+    from fibril_hpc.campaign.analysis.dataset import netcdf_available
+
+    grid = dict(GRID, k_tilde=[1.0], seeds=2, sweep={"lattice": ["square", "hexagonal"],
+                                                     "tip_radius": RADII})
+    path = _synthetic(tmp_path, grid)
+    spec = spec_from_dict(dict(grid, output="x.h5"), base_dir=str(tmp_path))
+    want = {j.key: dict(j.extra) for j in spec.jobs}
+    c = load_campaign(path)
+    assert c.lab_sweeps == {"lattice": ["square", "hexagonal"], "tip_radius": RADII}
+    df = c.to_dataframe()
+    assert list(df.columns[-2:]) == ["lattice", "tip_radius"]
+    pd = pytest.importorskip("pandas")
+    assert df["tip_radius"].dtype == float and pd.api.types.is_string_dtype(df["lattice"])
+    for _, row in df.iterrows():
+        assert (row["lattice"], row["tip_radius"]) == (want[row["key"]]["lattice"],
+                                                       want[row["key"]]["tip_radius"])
+    assert not df.duplicated(["lattice", "tip_radius", "k_tilde", "sigma_tilde", "preload",
+                              "seed"]).any()
+    # one cell's variants in the grid's order
+    cell = df[(df.sigma_tilde == 0.1) & (df.preload == 0.01) & (df.seed == 0)]
+    assert list(zip(cell.lattice, cell.tip_radius)) == [
+        ("square", 0.5), ("square", 4.0), ("hexagonal", 0.5), ("hexagonal", 4.0)]
+    export_csv(path, str(tmp_path / "e.csv"))
+    rows = _csv(tmp_path / "e.csv")
+    assert [(r["key"], r["lattice"], float(r["tip_radius"])) for r in rows] == \
+        list(zip(df.key, df.lattice, df.tip_radius))
+    ds = c.to_xarray(curves=False)
+    assert ds["F_A"].dims == ("lattice", "tip_radius", "k_tilde", "sigma_tilde", "preload",
+                              "seed")
+    assert list(ds["lattice"].values) == ["hexagonal", "square"]
+    for _, row in df.iterrows():
+        got = ds["F_A"].sel(lattice=row["lattice"], tip_radius=row["tip_radius"],
+                            k_tilde=row["k_tilde"], sigma_tilde=row["sigma_tilde"],
+                            preload=row["preload"], seed=row["seed"])
+        assert float(got) == row["F_A"]
+    if netcdf_available():
+        export_netcdf(path, str(tmp_path / "e.nc"), curves=False)
+        with xr.open_dataset(tmp_path / "e.nc") as back:
+            assert back["F_A"].dims == ds["F_A"].dims
+            np.testing.assert_array_equal(back["F_A"].values, ds["F_A"].values)
+
+
+def test_a_file_without_a_lab_sweep_keeps_its_columns(tmp_path):
+    grid = {k: v for k, v in GRID.items() if k != "sweep"}
+    c = load_campaign(_synthetic(tmp_path, dict(grid, k_tilde=[1.0], seeds=1)))
+    assert c.lab_sweeps == {}
+    assert "tip_radius" not in c.to_dataframe().columns
+    assert c.to_xarray(curves=False)["F_A"].dims == ("k_tilde", "sigma_tilde", "preload",
+                                                      "seed")
+
+
 # ------------------------------------------------------------------------------ the safety net
 def test_levels_refuse_two_different_points_of_one_preload_and_seed():
     seed, pre = [0, 0, 1, 1, 0], [1.0, 2.0, 1.0, 2.0, 1.0]

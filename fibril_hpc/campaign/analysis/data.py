@@ -11,11 +11,12 @@ import numpy as np
 
 from ...errors import ConfigError, StoreError
 from ..plan.axes import record_n_side
-from ..storage.grids import GridIndex, stored_grids
+from ..storage.grids import GridIndex, job_sweeps, stored_grids
 from ..storage.record import COLUMNS, JobRecord
 from ..storage.store import read_snapshot
 from . import dataset
 from .si import has_units, si_columns
+from .variants import job_variant, show_value, swept_lab_fields
 
 log = logging.getLogger(__name__)
 
@@ -77,6 +78,24 @@ class CampaignData:
         return grid_sweeps_n_side(self.meta) or len(
             {j.get("n_side") for j in self.jobs if j.get("n_side") is not None}) > 1
 
+    @functools.cached_property
+    def lab_sweeps(self) -> dict:
+        """{field: [values]} of the lab fields the file's grid sweeps (``sweep:`` beyond
+        ``n_side`` and ``k_machine``, in grid order; {} without). Every job then holds its value
+        of each (None for a job of none of the listed combinations), and :meth:`to_dataframe`
+        and :meth:`to_xarray` carry them as columns and dimensions: jobs of different variants
+        share (k~, sigma~, preload, seed)."""
+        return lab_fields(self.meta)
+
+    def lab_column(self, name: str) -> list:
+        """A swept lab field's values over the jobs as the table writes them: numbers as floats
+        (NaN where unknown) when every listed value is a number, else their text ("" where
+        unknown)."""
+        vals = [j.get(name) for j in self.jobs]
+        if all(_is_number(v) for v in self.lab_sweeps[name]):
+            return [math.nan if v is None else float(v) for v in vals]
+        return ["" if v is None else show_value(v) for v in vals]
+
     @property
     def table(self) -> dict:
         """Column name -> array (numeric columns as float arrays)."""
@@ -86,7 +105,9 @@ class CampaignData:
         """The jobs as a pandas DataFrame, one row per job, the columns of :data:`COLUMNS` typed
         as the fields of :class:`~fibril_hpc.campaign.storage.record.JobRecord` (float, int64,
         str; ``finished`` a UTC datetime), followed by ``n_side`` (int64) when the brush size is
-        an axis of the file (:attr:`n_side_swept`), then, for a grid in physical units, by the
+        an axis of the file (:attr:`n_side_swept`), then by one column per swept lab field
+        (:attr:`lab_sweeps`: float, or str for names and files), then, for a grid in physical
+        units, by the
         SI columns of :data:`~fibril_hpc.campaign.analysis.si.SI_COLUMNS` (N, m, N/m); needs
         pandas (``pip install 'fibril-hpc[report]'``)."""
         try:
@@ -112,6 +133,8 @@ class CampaignData:
         data["finished"] = pd.to_datetime(data["finished"], utc=True, format="ISO8601")
         if self.n_side_swept:
             data["n_side"] = pd.array([j.get("n_side") for j in self.jobs], dtype="Int64")
+        for name in self.lab_sweeps:
+            data[name] = self.lab_column(name)
         if has_units(self.meta):
             data.update(si_columns(self.jobs))
         return pd.DataFrame(data, columns=list(data))
@@ -190,6 +213,30 @@ def grid_sweeps_n_side(meta: dict) -> bool:
     return False
 
 
+def lab_fields(meta: dict) -> dict:
+    """{field: [values]} of the swept lab fields of a file's grid that the job table carries
+    (:func:`.variants.swept_lab_fields`, less any name the table has already)."""
+    return {n: v for n, v in swept_lab_fields(meta).items() if n not in COLUMNS}
+
+
+def fill_lab_values(meta: dict, jobs: list) -> None:
+    """Set every job's value of each swept lab field (:func:`lab_fields`), read as the report
+    reads it (:func:`.variants.job_variant`: from the key through the file's grid, else from the
+    stored scene); None for a job of none of the listed combinations."""
+    values = lab_fields(meta)
+    if not values:
+        return
+    by_key = job_sweeps(meta.get("campaign_yaml"))
+    for j in jobs:
+        idx = job_variant(j, values, by_key)
+        for i, (name, listed) in enumerate(values.items()):
+            j[name] = None if idx is None else listed[idx[i]]
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
 def fill_n_side(rec: dict) -> dict:
     """Set a record's ``n_side`` from its stored scene (:func:`.plan.axes.record_n_side`); a
     record without one gets it from its key when its grid sweeps n_side (:func:`load_campaign`)."""
@@ -237,6 +284,9 @@ def load_campaign(path: str, curves: bool = True, include_unchecked: bool = Fals
         for j in jobs:
             if j["n_side"] is None:
                 j["n_side"] = index.n_side_of(j)
-    jobs.sort(key=_sort_key)
+    fill_lab_values(snap.root, jobs)
+    lab = lab_fields(snap.root)         # the variants of one cell in the grid's order
+    jobs.sort(key=lambda j: _sort_key(j) + tuple(
+        next((i for i, v in enumerate(vs) if v is j[n] or v == j[n]), -1) for n, vs in lab.items()))
     return CampaignData(snap.root, jobs, snap.pending, snap.corrupt, snap.unchecked_keys,
                         snap.foreign)

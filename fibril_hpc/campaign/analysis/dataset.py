@@ -2,8 +2,10 @@
 
 The dimensions are the grid's: ``k_tilde``, ``sigma_tilde``, ``preload`` (F~_P targets or d~,
 as the grid gives them) and ``seed``, preceded by ``n_side`` when the brush size is an axis of
-the file (a grid sweeping it: :attr:`~.data.CampaignData.n_side_swept`; other files give the
-Dataset they always gave). Every column of the job table is a variable over them (NaN,
+the file (a grid sweeping it: :attr:`~.data.CampaignData.n_side_swept`), and before that by one
+dimension per lab field the grid sweeps (:attr:`~.data.CampaignData.lab_sweeps`, in grid order:
+float coordinates, or text for names and files); other files give the Dataset they always gave.
+Every column of the job table is a variable over them (NaN,
 "" or NaT where the grid has no job: an ``F_P: auto`` grid chooses its preloads per path), with
 CF-style ``long_name`` and ``units`` attributes ("1": dimensionless, docs/model.md §2); a grid
 in physical units adds the SI variables (N, m, N/m). The curves are padded variables
@@ -63,13 +65,17 @@ def _cells(jobs, dims):
     if SIZE_DIM in dims and any(j.get(SIZE_DIM) is None for j in jobs):
         raise ConfigError("to_xarray", "a job without a stored scene (no n_side)",
                           "jobs whose brush size is known (use to_dataframe())")
+    for d in dims:
+        if any(isinstance(j[d], float) and math.isnan(j[d]) or j[d] == "" for j in jobs):
+            raise ConfigError("to_xarray", f"a job of none of the grid's {d} values",
+                              "jobs of the listed combinations of the swept values (use "
+                              "to_dataframe())")
     coords = {d: np.array(sorted({j[d] for j in jobs})) for d in dims}
     index = {d: {v: i for i, v in enumerate(coords[d])} for d in dims}
     cells = [tuple(index[d][j[d]] for d in dims) for j in jobs]
     if len(set(cells)) != len(cells):
         raise ConfigError("to_xarray", "two jobs at the same (" + ", ".join(dims) + ")",
-                          "a grid without a lab sweep: (use to_dataframe(), or one Dataset "
-                          "per swept value)")
+                          "one job per cell (use to_dataframe())")
     return coords, cells, (kinds.pop() if kinds else "F_P")
 
 
@@ -90,8 +96,12 @@ def to_xarray(data, curves: bool = True):
     """The jobs of a :class:`~fibril_hpc.campaign.analysis.data.CampaignData` as an
     ``xarray.Dataset`` (module docstring); ``curves=False`` leaves the curves out."""
     xr = _xarray()
+    lab = tuple(data.lab_sweeps)
     jobs = data.jobs
-    dims = ((SIZE_DIM,) if data.n_side_swept else ()) + DIMS
+    if lab:                      # the swept values as the table writes them (float or text)
+        cols = {n: data.lab_column(n) for n in lab}
+        jobs = [{**j, **{n: cols[n][i] for n in lab}} for i, j in enumerate(jobs)]
+    dims = lab + ((SIZE_DIM,) if data.n_side_swept else ()) + DIMS
     coords, cells, kind = _cells(jobs, dims)
     shape = tuple(len(coords[d]) for d in dims)
     docs = {f.name: f.metadata["doc"] for f in fields(JobRecord)}
@@ -102,6 +112,8 @@ def to_xarray(data, curves: bool = True):
     ds["preload"].attrs.update(units="1", long_name="preload target: force F_P/F_c" if
                                kind == "F_P" else "preload target: indentation d/d_c")
     frame = data.to_dataframe()
+    for d in lab:
+        ds[d].attrs.update(long_name=f"scene.{d}, swept by the grid")
     for name in COLUMNS:
         if name in dims or name == "preload_kind":
             continue

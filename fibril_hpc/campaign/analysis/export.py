@@ -1,6 +1,7 @@
 """Export of a campaign, one row per job with the columns of
 :data:`fibril_hpc.campaign.storage.record.COLUMNS` (then ``n_side`` when the brush size is an
-axis of the file: :attr:`~.data.CampaignData.n_side_swept`): CSV
+axis of the file: :attr:`~.data.CampaignData.n_side_swept`, then one per swept lab field:
+:attr:`~.data.CampaignData.lab_sweeps`): CSV
 (no extra dependency) and Parquet (pandas + pyarrow: the ``report`` extra); and the whole
 campaign, curves included, as netCDF (xarray + h5netcdf: the ``netcdf`` extra)."""
 
@@ -28,11 +29,13 @@ def export_csv(path: str, out: str, include_unchecked: bool = False) -> int:
     Records without a checksum are left out unless ``include_unchecked``."""
     c = load_campaign(path, curves=False, include_unchecked=include_unchecked)
     cols = COLUMNS + (("n_side",) if c.n_side_swept else ())
+    lab = {n: c.lab_column(n) for n in c.lab_sweeps}
     buf = io.StringIO(newline="")
     w = csv.writer(buf)
-    w.writerow(cols)
-    for j in c.jobs:
-        w.writerow([_csv_value(j.get(col)) for col in cols])
+    w.writerow(cols + tuple(lab))
+    for i, j in enumerate(c.jobs):
+        w.writerow([_csv_value(j.get(col)) for col in cols]
+                   + [_csv_value(v[i]) for v in lab.values()])
     write_text_atomically(out, buf.getvalue(), "writing the CSV export")
     return len(c.jobs)
 
