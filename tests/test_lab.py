@@ -403,6 +403,27 @@ def test_campaign_sweeps_lab_fields_and_old_grids_keep_their_keys(tmp_path):
     assert e.value.field == "sweep.phi"
 
 
+def test_a_swept_field_the_scene_needs_is_taken_from_the_sweep(tmp_path):
+    """``tip: sphere`` needs a tip_radius: swept, the scene need not name it too; each job has
+    its own value, the same key as in a grid naming it in the scene; a bad swept value is one
+    line naming sweep.tip_radius, first or later in the list."""
+    grid = {"output": "x.h5", "scene": {"n_side": 2, "elements_per_diameter": 5, "tip": "sphere"},
+            "k_tilde": 0.1, "sigma_tilde": 0.5, "F_P": [1, 2], "seeds": 1,
+            "sweep": {"tip_radius": [0.5, 4]}}
+    swept = spec_from_dict(grid, base_dir=str(tmp_path))
+    named = spec_from_dict({**grid, "scene": {**grid["scene"], "tip_radius": 2}},
+                           base_dir=str(tmp_path))
+    assert [j.key for j in swept.jobs] == [j.key for j in named.jobs]
+    assert sorted(t.scene.tip_radius for t in swept.tasks()) == [0.5, 4]
+    for bad in ([0.2, 4], [0.5, 0.2]):
+        with pytest.raises(ConfigError) as e:
+            spec_from_dict({**grid, "sweep": {"tip_radius": bad}}, base_dir=str(tmp_path))
+        assert e.value.field == "sweep.tip_radius" and e.value.value == 0.2
+    with pytest.raises(ConfigError) as e:                 # not swept: the scene's own field
+        spec_from_dict({k: v for k, v in grid.items() if k != "sweep"}, base_dir=str(tmp_path))
+    assert e.value.field == "scene.tip_radius"
+
+
 def test_lab_fields_round_trip_through_the_result_file(tmp_path, opts):
     from fibril_hpc.io.store import read_result_file, write_result_file
 

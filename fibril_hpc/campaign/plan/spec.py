@@ -286,6 +286,26 @@ def _values(name, v):
     return tuple(out)
 
 
+def _base_scene(scene_map: dict, sweep: dict):
+    """The grid's base scene. A lab field that the scene leaves out and the grid sweeps, whose
+    absence alone makes the scene invalid (``tip: sphere`` with ``tip_radius`` only swept), takes
+    its first swept value there: every job sets its own value, so no key changes, and a grid
+    that was valid before is built exactly as before."""
+    try:
+        return scene_from_dict(scene_map, where="scene.")
+    except ConfigError as exc:
+        field = exc.field
+        name = field.removeprefix("scene.")
+        if name == "n_side" or name in scene_map or not sweep.get(name):
+            raise
+    try:
+        return _base_scene({**scene_map, name: sweep[name][0]}, sweep)
+    except ConfigError as again:
+        if again.field != field:
+            raise
+        raise ConfigError(f"sweep.{name}", again.value, again.allowed) from None
+
+
 def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSpec:
     """Validate a grid mapping; every problem is a one-line :class:`ConfigError`."""
     if not isinstance(data, dict):
@@ -314,7 +334,7 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     if "n_side" in sweep:                     # the base scene: the largest brush (limits, memory)
         scene_map["n_side"] = max(sweep["n_side"])
     try:
-        base = scene_from_dict(scene_map, where="scene.")
+        base = _base_scene(scene_map, sweep)
     except ConfigError as exc:
         if "n_side" not in sweep or exc.field != "scene.n_side":
             raise
