@@ -37,13 +37,16 @@ def _plateau(extra) -> float:
         * (1.0 - 1.0 / d.get("n_side", 1e9))
 
 
-def _synthetic(folder, grid, name=None):
+def _synthetic(folder, grid, name=None, keep=lambda extra: True):
     """A campaign written through the real store, every record with its stored scene, whose
-    F~_A rises to a plateau set by the swept values (each seed a fixed 1 % off the next)."""
+    F~_A rises to a plateau set by the swept values (each seed a fixed 1 % off the next); only
+    the jobs whose swept values pass ``keep`` are written (the others still to run)."""
     grid = dict(grid, output=name or grid["output"])
     spec = spec_from_dict(grid, base_dir=str(folder))
     recs = []
     for i, j in enumerate(spec.jobs):
+        if not keep(dict(j.extra)):
+            continue
         fa = _plateau(j.extra) * math.tanh(j.preload / 0.1) * (1 + 0.01 * (j.seed - 1))
         recs.append({**j.inputs(), "status": "done", "message": "", "F_P": j.preload, "F_A": fa,
                      "record_id": f"{i:032x}", "finished": store.now(), "group_size": 1,
@@ -81,12 +84,22 @@ def test_the_report_reads_the_first_variant_alone_and_says_so(tmp_path):
                for r in plat)
     page = (tmp_path / "rep" / "README.md").read_text()
     assert "The grid sweeps tip_radius (0.5, 4)" in page
-    assert "reads **tip_radius = 0.5** only" in page and "first listed value" in page
+    assert "reads **tip_radius = 0.5** only (the first listed combination with done jobs" in page
     assert "Not read: tip_radius = 4 (84 done jobs)" in page
     captions = [line for line in page.splitlines() if line.startswith("### ")]
     assert captions and all(c.endswith("(tip_radius = 0.5)") for c in captions)
     html = (tmp_path / "rep" / "report.html").read_text()
     assert "tip_radius = 0.5" in html and "Not read: tip_radius = 4" in html
+
+
+def test_while_the_first_variant_has_no_done_job_the_first_that_has_is_read(tmp_path):
+    path = _synthetic(tmp_path, GRID, keep=lambda e: e["tip_radius"] == 4)
+    write_report(path, str(tmp_path / "rep"), n_boot=40)
+    assert _csv(tmp_path / "rep" / "plateau.csv") == _csv(_alone(tmp_path, GRID, tip_radius=4) /
+                                                          "plateau.csv")
+    page = (tmp_path / "rep" / "README.md").read_text()
+    assert "reads **tip_radius = 4** only (the first listed combination with done jobs" in page
+    assert "No other variant has done jobs in the file." in page
 
 
 def test_where_reads_another_variant(tmp_path, capsys):

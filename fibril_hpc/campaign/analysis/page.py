@@ -66,7 +66,7 @@ def variant_sentence(v) -> str:
     """What a grid sweeping lab fields is read at, and what the file holds besides."""
     swept = "; ".join(f"{n} ({', '.join(show_value(x) for x in xs)})" for n, xs in v.values.items())
     how = ("chosen with `--where`" if v.by_where else
-           "the first listed value of each swept field; another with `--where NAME=VALUE`")
+           "the first listed combination with done jobs; another with `--where NAME=VALUE`")
     s = (f"The grid sweeps {swept}: every table, fit and figure reads **{v.label}** only "
          f"({how}; {len(v.keys)} done jobs), so no group mixes variants.")
     if v.others:

@@ -5,8 +5,9 @@ combination of the swept values is a job, so the jobs of different variants shar
 (k~, sigma~, preload, seed) and must never be read as one group. The machine stiffness
 ``k_machine`` and the brush size ``n_side`` have their own readings (the stiffest machine, the
 largest brush: :mod:`.report_data`) and are not variants here. For every other swept field the
-report reads **one combination**: the first listed value of each field, in grid order, or the
-values named with ``where``; the page says which, and which variants the file holds besides.
+report reads **one combination**: the first listed value of each field, in grid order (while
+that combination has no done job, the first in grid order that has), or the values named with
+``where``; the page says which, and which variants the file holds besides.
 
 A job's variant is read from its key through the file's own grid (rebuilt from
 ``campaign_yaml``: :func:`..storage.grids.job_sweeps`), else, for a record of no job of that grid
@@ -45,7 +46,7 @@ class Variant:
     keys: frozenset                 # keys of the done jobs of the chosen combination
     others: list = field(default_factory=list)     # [({field: value}, done jobs)] not read
     unknown: int = 0                # done jobs of none of the listed combinations
-    by_where: bool = False          # chosen with ``where`` (else: the first listed values)
+    by_where: bool = False          # chosen with ``where`` (else: the first listed with done jobs)
 
     @property
     def label(self) -> str:
@@ -195,16 +196,18 @@ def select(meta: dict, done: list, where=None, option: str = "where") -> Variant
     idx = tuple(picks.get(n, 0) for n in values)
     by_key = job_sweeps(meta.get("campaign_yaml"))
     counts: dict = {}
-    keys = set()
     unknown = 0
+    variant_of = {}
     for j in done:
         v = job_variant(j, values, by_key)
         if v is None:
             unknown += 1
             continue
         counts[v] = counts.get(v, 0) + 1
-        if v == idx:
-            keys.add(j.get("key"))
+        variant_of[j.get("key")] = v
+    if not picks and idx not in counts and counts:
+        idx = min(counts)       # the first listed one has no done job yet: the first that has
+    keys = {k for k, v in variant_of.items() if v == idx}
     others = [({n: values[n][i] for n, i in zip(values, v)}, c)
               for v, c in sorted(counts.items()) if v != idx]
     return Variant(values, {n: values[n][i] for n, i in zip(values, idx)}, frozenset(keys),
