@@ -174,16 +174,25 @@ def test_a_swept_campaign_reuses_the_unswept_records_and_resumes(runs):
 def test_the_dry_run_prices_each_brush_size_by_its_own_finished_jobs(runs, tmp_path,
                                                                     monkeypatch):
     """A size sweep mixes jobs whose costs differ by orders of magnitude: the estimate takes
-    each size's measured mean where that size has finished jobs, the model where it has none."""
+    each size's measured mean where that size has finished jobs, the model where it has none,
+    scaled by the measured/model ratio at the largest size that has them."""
     from fibril_hpc.campaign.analysis import status
 
     d, _ = runs
-    monkeypatch.setattr(status, "task_seconds", lambda *a: 1000.0)   # the model, marked
+    monkeypatch.setattr(status, "task_seconds", lambda *a: 1000.0)   # the model: flat, marked
     shutil.copy(d / "plain.h5", tmp_path / "size.h5")                # n_side 2 done, 3 not
     pl = status.plan(spec_from_dict(GRID, base_dir=str(tmp_path)))
     assert {t.scene.n_side for t in pl.tasks} == {3} and len(pl.to_run) == 4
-    assert pl.estimate_s == 1000.0 * len(pl.tasks)
-    assert "per brush size" in pl.how and pl.how.endswith("model for n_side 3")
+    df = load_campaign(str(d / "plain.h5")).to_dataframe()
+    mean2 = float((df["wall_s"] / df["group_size"]).mean())
+    # a flat model scaled to n_side 2's measured cost: n_side 3's four jobs at that cost
+    assert pl.estimate_s == pytest.approx(4 * mean2, rel=1e-12)
+    assert "per brush size" in pl.how and pl.how.endswith(
+        "model for n_side 3, scaled by the measured/model ratio at n_side 2 "
+        f"({4 * mean2 / 2000.0:.2g})")
+    # a grid of n_side 3 alone: the file's n_side 2 jobs price nothing of it
+    pl = status.plan(spec_from_dict({**GRID, "sweep": {"n_side": [3]}}, base_dir=str(tmp_path)))
+    assert pl.estimate_s == 1000.0 * len(pl.tasks) and pl.how.endswith("; model for n_side 3")
     # both sizes measured: a third preload is priced by each size's own mean
     shutil.copy(d / "size.h5", tmp_path / "size.h5")
     pl = status.plan(spec_from_dict({**GRID, "F_P": [0.3, 1.0, 2.0]}, base_dir=str(tmp_path)))

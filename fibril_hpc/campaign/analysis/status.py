@@ -118,8 +118,9 @@ def plan(spec, retry_failed: bool = False) -> Plan:
     """The jobs of ``spec`` still to run in its output file, and their estimated cost.
 
     The estimate is, per brush size, the measured mean per job of the finished jobs of that
-    size when there are any, else the cost model of :mod:`fibril_hpc.campaign.plan.estimate`
-    (a grid that sweeps ``n_side`` mixes brushes whose jobs differ in cost by 100x and more).
+    size when there are any (a grid that sweeps ``n_side`` mixes brushes whose jobs differ in
+    cost by 100x and more), else the cost model of :mod:`fibril_hpc.campaign.plan.estimate`,
+    scaled by the measured/model ratio at the largest size that has finished jobs.
     """
     jobs = spec.jobs if spec.auto is None else [    # F_P: auto: its round 0 only
         j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
@@ -150,29 +151,53 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                  if any(j.key in todo for j in t.jobs)]
     timed = {n: fft_pair_seconds(spec.base if n == spec.base.n_side else
                                  spec.base.replace(n_side=n)) for n in spec.n_sides}
-    if len(spec.n_sides) == 1:  # one brush size: every finished job counts, as it always did
-        walls = {spec.n_sides[0]: [w for ws in walls.values() for w in ws]} if walls else {}
-    est, modelled = 0.0, set()
+    if len(spec.n_sides) == 1 and None in walls:    # records naming no size: the grid's own
+        walls.setdefault(spec.n_sides[0], []).extend(walls.pop(None))
+    est, modelled = 0.0, []
     for t in tasks:
         n = t.scene.n_side
         if walls.get(n):
             est += sum(walls[n]) / len(walls[n]) * len(t.jobs)
         else:
-            est += task_seconds(t.scene, timed[n][0], timed[n][2])
-            modelled.add(n)
+            modelled.append(t)
+    scale, ref = _calibration(spec, walls, timed) if modelled else (1.0, None)
+    est += scale * sum(task_seconds(t.scene, timed[t.scene.n_side][0], timed[t.scene.n_side][2])
+                       for t in modelled)
     pair_s, m, epp = timed[max(timed)]           # the largest brush's (the base scene's)
-    how = _how(sum(len(w) for w in walls.values()), modelled, len(spec.n_sides) > 1)
+    how = _how(sum(len(w) for w in walls.values()), {t.scene.n_side for t in modelled},
+               len(spec.n_sides) > 1, scale, ref)
     return Plan(done=done, failed=failed, to_run=todo, tasks=tasks, fft_pair_s=pair_s,
                 fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how)
 
 
-def _how(n_walls: int, modelled: set, swept: bool) -> str:
+def _calibration(spec, walls: dict, timed: dict) -> tuple:
+    """(measured / modelled cost per job, n_side) at the largest brush size of a grid sweeping
+    n_side that has finished jobs, to scale the model of its sizes that have none; (1.0, None)
+    without one. The model's own growth with the brush is kept, its level taken from the file."""
+    measured = [n for n in spec.n_sides if walls.get(n)]
+    if len(spec.n_sides) < 2 or not measured:
+        return 1.0, None
+    ref = max(measured)
+    if spec.auto is None:
+        tasks = [t for t in spec.tasks() if t.scene.n_side == ref]
+    else:
+        tasks = [spec.auto_task(p, spec.auto.start) for p in spec.paths() if p[3] == ref]
+    model = sum(task_seconds(t.scene, timed[ref][0], timed[ref][2]) for t in tasks)
+    jobs = sum(len(t.jobs) for t in tasks)
+    if model <= 0.0 or not jobs:
+        return 1.0, None
+    return sum(walls[ref]) / len(walls[ref]) / (model / jobs), ref
+
+
+def _how(n_walls: int, modelled: set, swept: bool, scale: float = 1.0, ref=None) -> str:
     """How :func:`plan`'s estimate was made, for the dry-run line."""
     if not n_walls:
         return "model"
     how = f"measured mean{' per brush size' if swept else ''} of {n_walls} finished jobs"
     if modelled:
         how += f"; model for n_side {', '.join(str(n) for n in sorted(modelled))}"
+        if ref is not None:
+            how += f", scaled by the measured/model ratio at n_side {ref} ({scale:.2g})"
     return how
 
 

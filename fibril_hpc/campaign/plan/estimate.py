@@ -4,7 +4,9 @@ cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid) x
 ``OVERHEAD[preset]``. Seconds per pair are timed here on the campaign's own grid (about a second,
 CPU time); ``OVERHEAD`` is the all-in CPU per pair of a whole path over the bare pair (CG, event
 search, local cascades, the coarse level).
-Pairs per task are modelled per pillar per sqrt(element per pillar) as
+Pairs per task are modelled per pillar of the 18 x 18 brush (``SIZE_REF``; other brushes by
+the measured growth ``SIZE_GROWTH`` of pairs with the pillar count) per sqrt(element per
+pillar) as
 
     PRESET_FACTOR[preset] x (PAIRS_LOADING + PAIRS_UNLOADING x sum_i min(1, F~_P,i / F_FULL)^(1/3))
 
@@ -45,6 +47,13 @@ F_FULL = 4.0
 #: work of a preset relative to the block-Jacobi fit above, under the ``auto`` preconditioner
 #: (looser tolerances and coarser batching at `fast`; the coarse levels everywhere)
 PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
+#: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
+#: with the pillar count N_p away from it: ~ N_p^SIZE_GROWTH[0] below, ~ N_p^SIZE_GROWTH[1]
+#: above (the growth table at `default`, one path per size: 8 -> 18 x 18 as N_p^0.87, 18 -> 64 x
+#: 64 as N_p^0.62 with the lattice coarse level; benchmarks/NOTES.md, issue 21). Pairs in
+#: proportion to N_p, as fitted before the coarse levels, priced a 64 x 64 round 2.6x too dear.
+SIZE_REF = 324
+SIZE_GROWTH = (0.87, 0.62)
 #: all-in CPU per FFT pair of a path over the bare timed pair, per preset (the means measured on
 #: the paper grid's sampled paths: 3.0 at `fast`, 2.8 at `default` (2.0-3.7), 2.3 at `accurate`;
 #: the pair is cheap since its column stage runs in cache, so the rest weighs more)
@@ -97,7 +106,9 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
     weights = ([min(1.0, f / F_FULL) ** (1 / 3) for f in scene.F_P] if scene.F_P is not None
                else [1.0] * len(scene.d_tilde or ()))
     per = PRESET_FACTOR.get(scene.preset, 1.0) * (PAIRS_LOADING + PAIRS_UNLOADING * sum(weights))
-    return per * scene.n_side ** 2 * math.sqrt(elements_per_pillar)
+    n_p = scene.n_side ** 2
+    grow = SIZE_GROWTH[0] if n_p < SIZE_REF else SIZE_GROWTH[1]
+    return per * SIZE_REF * (n_p / SIZE_REF) ** grow * math.sqrt(elements_per_pillar)
 
 
 def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
