@@ -79,37 +79,6 @@ def test_point_loads_equal_the_fft_product(geom):
     assert not op.add_point_loads(u, np.arange(op.max_direct + 1), np.ones(op.max_direct + 1))
 
 
-@pytest.mark.parametrize("threads", [2, 3])
-def test_shared_direct_sum_is_bitwise_the_one_thread_sum(threads):
-    """With fft_threads > 1 a large direct sum is split over the elements between the pair's
-    threads: each element sums its loads in the same order, so the result is bitwise that of one
-    thread, and below SHARED_SUM_MIN it stays in one thread (the same kernel)."""
-    g = build_pillar_grid(5, 0.16, 5, 0.0, 0).geometry
-    rng = np.random.default_rng(threads)
-    idx = rng.choice(g.n_active, 40, replace=False).astype(np.int64)
-    vals = rng.standard_normal(40)
-    u0 = rng.standard_normal(g.n_active)
-    one = HalfSpace(g, threads=1)
-    ref = u0.copy()
-    assert one.add_point_loads(ref, idx, vals)
-    many = HalfSpace(g, threads=threads)
-    assert many.pair.n_lanes == threads
-    tgt = np.sort(rng.choice(g.n_active, 300, replace=False)).astype(np.int64)
-    ref_at, full = u0[:300].copy(), np.zeros(g.n_active)
-    one.point_loads_at(ref_at, tgt, idx, vals)
-    one.add_point_loads(full, idx, vals)                     # the same sums at the targets
-    np.testing.assert_allclose(ref_at - u0[:300], full[tgt], rtol=1e-9, atol=1e-14)
-    for floor in (0, 10**9):                 # shared, then kept in the calling thread
-        many.SHARED_SUM_MIN = floor
-        u = u0.copy()
-        assert many.add_point_loads(u, idx, vals)
-        assert np.array_equal(u, ref), floor
-        at = u0[:300].copy()
-        many.point_loads_at(at, tgt, idx, vals)
-        assert np.array_equal(at, ref_at), floor
-    many.pair.close()
-
-
 def test_injected_padded_size_gives_the_same_product(geom):
     """Any padded size m >= 2n-1 is the same linear operator; below it wrap-around would alias."""
     p = np.random.default_rng(7).standard_normal(geom.n_active)

@@ -326,23 +326,6 @@ def test_one_and_two_fft_threads_agree():
         np.testing.assert_allclose(cb.d_tilde, ca.d_tilde, rtol=1e-10, atol=1e-10)
 
 
-def test_shared_direct_sums_give_the_one_thread_path_bitwise(monkeypatch):
-    """With fft_threads = 2 and every direct sum split between the threads (the floor taken
-    away), a whole loading path is the one-thread path bitwise: the same events, counts and
-    curves (the FFT product and each element's sum are unchanged by the split)."""
-    from fibril_hpc.elastic.halfspace import HalfSpace
-
-    monkeypatch.setattr(HalfSpace, "SHARED_SUM_MIN", 0)
-    kw = dict(n_side=5, elements_per_diameter=6, k_tilde=0.01, sigma_tilde=0.5, F_P=2.0)
-    a = run(**kw, solver={"fft_threads": 1})
-    b = run(**kw, solver={"fft_threads": 2})
-    for key in ("fft_pairs", "cg_solves", "cg_iterations", "events"):
-        assert a.stats[key] == b.stats[key], key
-    assert a.main.F_A == b.main.F_A
-    for ca, cb in ((a.main.loading, b.main.loading), (a.main.unloading, b.main.unloading)):
-        assert np.array_equal(ca.F_tilde, cb.F_tilde) and np.array_equal(ca.d_tilde, cb.d_tilde)
-
-
 # -- property tests ------------------------------------------------------------------------------
 small_scenes = st.fixed_dictionaries({
     "n_side": st.integers(1, 3),

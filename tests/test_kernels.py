@@ -158,13 +158,6 @@ def test_point_loads(pb):
     C.point_loads(ua, iy, ix, idx, vals, table)
     R.point_loads(ub, iy, ix, idx, vals, table)
     np.testing.assert_allclose(ua, ub, rtol=1e-13, atol=1e-14)
-    a, e = sorted(rng.integers(0, n + 1, 2).tolist())       # one span: only it changes
-    va, vb = pb["x"].copy(), pb["x"].copy()
-    C.point_loads_span(va, iy, ix, idx, vals, table, a, e)
-    R.point_loads_span(vb, iy, ix, idx, vals, table, a, e)
-    np.testing.assert_allclose(va, vb, rtol=1e-13, atol=1e-14)
-    np.testing.assert_array_equal(va[:a], pb["x"][:a])
-    np.testing.assert_array_equal(va[e:], pb["x"][e:])
 
 
 @SETTINGS

@@ -180,27 +180,20 @@ class FFTPair:
             lanes[0].run(self, kernel_blocks, 0, self.n_blocks)
             return
         edges = np.linspace(0, self.n_blocks, len(lanes) + 1).round().astype(int)
-        self.share([(lane.run, (self, kernel_blocks, int(a), int(e)))
-                    for lane, a, e in zip(lanes, edges[:-1], edges[1:])])
+        self._in_lanes([(lane.run, (self, kernel_blocks, int(a), int(e)))
+                        for lane, a, e in zip(lanes, edges[:-1], edges[1:])])
 
     def _rows_forward(self) -> None:
         """r2c along x of the active rows, shared between the lanes."""
-        self.share([(lane.p1.execute, ()) for lane in self._lanes])
+        self._in_lanes([(lane.p1.execute, ()) for lane in self._lanes])
 
     def _rows_backward(self) -> None:
         """c2r along x of the active rows, shared between the lanes."""
-        self.share([(lane.p4.execute, ()) for lane in self._lanes])
+        self._in_lanes([(lane.p4.execute, ()) for lane in self._lanes])
 
-    @property
-    def n_lanes(self) -> int:
-        """Threads a product is shared between (1 for the numpy backend)."""
-        return len(getattr(self, "_lanes", ())) or 1
-
-    def share(self, calls) -> None:
-        """Run ``calls`` [(fn, args)], at most one per lane: in this thread for one call, else in
-        the pair's own thread pool, waiting for all. The callers' own GIL-free work (the
-        operator's direct sums) uses it too, so one scene never holds more threads than
-        ``fft_threads``."""
+    def _in_lanes(self, calls) -> None:
+        """Run ``calls`` [(fn, args)], one per lane: in this thread for one lane, else in the
+        pair's own thread pool, waiting for all."""
         if len(calls) == 1:
             fn, args = calls[0]
             fn(*args)

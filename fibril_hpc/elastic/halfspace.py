@@ -50,10 +50,6 @@ class HalfSpace:
         # a direct sum costs ~n_active per load; an FFT pair ~m^2 log2(m)/2: break-even
         self.max_direct = max(8, int(self.m * self.m * np.log2(max(self.m, 2)) / (2 * n)))
 
-    #: loads x elements below which a direct sum stays in one thread with ``fft_threads > 1``
-    #: (handing a share to another thread costs tens of microseconds; benchmarks/NOTES.md)
-    SHARED_SUM_MIN = 200_000
-
     @classmethod
     def from_options(cls, geometry, options, *, m: int | None = None) -> HalfSpace:
         """The operator a :class:`~fibril_hpc.inputs.options.SolverOptions` asks for."""
@@ -81,31 +77,9 @@ class HalfSpace:
         """
         if len(idx) > self.max_direct:
             return False
-        if not len(idx):
-            return True
-        g = self.geometry
-        self._shared(kern.point_loads_span, len(u), len(idx),
-                     (u, g.iy, g.ix, idx, vals, self.table))
+        if len(idx):
+            kern.point_loads(u, self.geometry.iy, self.geometry.ix, idx, vals, self.table)
         return True
-
-    def point_loads_at(self, out: np.ndarray, tgt: np.ndarray, idx: np.ndarray,
-                       vals: np.ndarray) -> None:
-        """out[t] += (K[:, idx] vals)[tgt[t]]: the direct sum at the elements ``tgt`` only."""
-        g = self.geometry
-        self._shared(kern.point_loads_at_span, len(tgt), len(idx),
-                     (out, tgt, g.iy, g.ix, idx, vals, self.table))
-
-    def _shared(self, kernel, n_out: int, n_loads: int, args: tuple) -> None:
-        """Run a direct-sum ``kernel(*args, first, stop)`` over its ``n_out`` outputs: in this
-        thread, or split into one span per thread of the FFT pair when ``fft_threads > 1`` and
-        the sum is large enough to pay for the hand-over (bitwise the one-thread sum: each
-        output sums its loads in the same order whatever the span)."""
-        lanes = self.pair.n_lanes
-        if lanes == 1 or n_out * n_loads < self.SHARED_SUM_MIN:
-            kernel(*args, 0, n_out)
-            return
-        cuts = np.linspace(0, n_out, lanes + 1).round().astype(np.int64).tolist()
-        self.pair.share([(kernel, args + (a, e)) for a, e in zip(cuts[:-1], cuts[1:])])
 
     @property
     def n_pairs(self) -> int:

@@ -265,20 +265,12 @@ def update_contact_set(p, g, att, starts, sigma_c, tol_p, tol_g, worst_only):
 def point_loads(u, iy, ix, idx, vals, table):
     """u_j += sum_k vals[k] K(x_j - x_idx[k]) over every active j, with K read from the real-space
     table K[|dy|, |dx|] (exact: the same influence coefficients as the FFT product)."""
-    point_loads_span(u, iy, ix, idx, vals, table, 0, len(u))
-
-
-@jit
-def point_loads_span(u, iy, ix, idx, vals, table, first, stop):
-    """:func:`point_loads` on the elements ``first:stop`` only. Every u_j sums its loads in the
-    same order whatever the span, so disjoint spans run in threads of their own give bitwise the
-    whole sum (the kernel holds no GIL)."""
     for k in range(len(idx)):
         i = idx[k]
         v = vals[k]
         yi = iy[i]
         xi = ix[i]
-        for j in range(first, stop):
+        for j in range(len(u)):
             dy = iy[j] - yi
             dx = ix[j] - xi
             if dy < 0:
@@ -291,14 +283,7 @@ def point_loads_span(u, iy, ix, idx, vals, table, first, stop):
 @jit
 def point_loads_at(out, tgt, iy, ix, idx, vals, table):
     """out[t] += sum_k vals[k] K(x_tgt[t] - x_idx[k]) for the target elements ``tgt`` only."""
-    point_loads_at_span(out, tgt, iy, ix, idx, vals, table, 0, len(tgt))
-
-
-@jit
-def point_loads_at_span(out, tgt, iy, ix, idx, vals, table, first, stop):
-    """:func:`point_loads_at` for the targets ``first:stop`` only (each target's sum is
-    independent of the others: disjoint spans in threads give bitwise the whole)."""
-    for t in range(first, stop):
+    for t in range(len(tgt)):
         j = tgt[t]
         yj = iy[j]
         xj = ix[j]

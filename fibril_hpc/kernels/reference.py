@@ -124,25 +124,13 @@ def update_contact_set(p, g, att, starts, sigma_c, tol_p, tol_g, worst_only):
 
 
 def point_loads(u, iy, ix, idx, vals, table):
-    point_loads_span(u, iy, ix, idx, vals, table, 0, len(u))
-
-
-def point_loads_span(u, iy, ix, idx, vals, table, first, stop):
-    """:func:`point_loads` on the elements ``first:stop`` only."""
-    s = slice(first, stop)
     for i, v in zip(idx, vals):
-        u[s] += v * table[np.abs(iy[s] - iy[i]), np.abs(ix[s] - ix[i])]
+        u += v * table[np.abs(iy - iy[i]), np.abs(ix - ix[i])]
 
 
 def point_loads_at(out, tgt, iy, ix, idx, vals, table):
     """out[t] += sum_k vals[k] K(x_tgt[t] - x_idx[k]) for the target elements ``tgt`` only."""
-    point_loads_at_span(out, tgt, iy, ix, idx, vals, table, 0, len(tgt))
-
-
-def point_loads_at_span(out, tgt, iy, ix, idx, vals, table, first, stop):
-    """:func:`point_loads_at` for the targets ``first:stop`` only."""
-    for t in range(first, stop):
-        j = tgt[t]
+    for t, j in enumerate(tgt):
         out[t] += np.dot(vals, table[np.abs(iy[idx] - iy[j]), np.abs(ix[idx] - ix[j])])
 
 

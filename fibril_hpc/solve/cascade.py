@@ -169,6 +169,7 @@ class LocalCascade:
         far_free = np.flatnonzero(far & (att == 0))
         m_far_att = p[far_att] - thr
         m_far_free = g[far_free] + tol_g
+        table = self.model.operator.table
         applied = 0
         fixed = False
         p_l = p[idx].copy()
@@ -185,7 +186,8 @@ class LocalCascade:
                 fixed = True
                 break
             if not self._trusted(groups, idx, lstarts, K, C, inv_k_l, att_l, p_l, g_l, p_ref, att,
-                                 far_att, far_free, m_far_att, m_far_free, thr, tol_g, precond):
+                                 far_att, far_free, m_far_att, m_far_free, thr, tol_g, precond,
+                                 table):
                 break
             p_l, att_l = p_try, att_try
             applied += 1
@@ -218,8 +220,9 @@ class LocalCascade:
         return out
 
     def _trusted(self, groups, idx, lstarts, K, C, inv_k_l, att_l, p_l, g_l, p_ref, att, far_att,
-                 far_free, m_far_att, m_far_free, thr, tol_g, precond) -> bool:
+                 far_free, m_far_att, m_far_free, thr, tol_g, precond, table) -> bool:
         n = len(p_ref)
+        iy, ix = self.iy, self.ix
         lab = self._labels()
         cy, cx, rmax = self._centres()
         ng = len(self.starts) - 1
@@ -238,7 +241,7 @@ class LocalCascade:
         du = np.zeros(n)
         if len(near_el):
             tmp = np.zeros(len(near_el))
-            self.model.operator.point_loads_at(tmp, near_el, idx[src], dp[src])
+            kern.point_loads_at(tmp, near_el, iy, ix, idx[src], dp[src], table)
             du[near_el] = tmp
         if len(far_el):
             lg = np.repeat(np.arange(len(groups)), np.diff(lstarts))
@@ -262,7 +265,7 @@ class LocalCascade:
         du_l = np.zeros(len(idx))
         srcn = near_el[dp_far[near_el] != 0.0]
         if len(srcn):
-            self.model.operator.point_loads_at(du_l, idx, srcn, dp_far[srcn])
+            kern.point_loads_at(du_l, idx, iy, ix, srcn, dp_far[srcn], table)
         fg = np.flatnonzero(far_g)
         if len(fg):
             du_l += self._monopole(idx, cy[fg], cx[fg],
