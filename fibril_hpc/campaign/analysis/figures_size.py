@@ -1,5 +1,5 @@
 """The report's finite-size figure (a grid sweeping ``n_side``): the plateau of every (k~, sigma~)
-against the brush size, and its relative change against the largest n_side. Inputs: the rows of
+against the brush size, and its ratio to the largest n_side's (log axis). Inputs: the rows of
 :func:`fibril_hpc.campaign.laws.size.size_rows` held by :class:`.report_data.ReportData`.
 """
 
@@ -13,6 +13,8 @@ from .figures import FA, KT, SIG, err, legend, save, say, subplots
 
 #: relative offset in n_side between the lines, so that their error bars stay apart
 OFFSET = 0.012
+#: lowest end of a ratio's bar on the log axis, as a fraction of the ratio itself
+FLOOR = 0.1
 
 
 def _size_axis(ax, sizes):
@@ -26,8 +28,8 @@ def _size_axis(ax, sizes):
 
 def plateau_vs_n_side(data, out_dir, name="plateau_vs_n_side.png"):
     """The plateau against n_side (log axis), one line per (k~, sigma~), seed intervals as error
-    bars (open markers: plateau not reached, a lower bound), beside its relative change against
-    the largest n_side (error bars: the range the two seed intervals allow)."""
+    bars (open markers: plateau not reached, a lower bound), beside its ratio to the largest
+    n_side's on a log axis (error bars: the range the two seed intervals allow)."""
     fig, (a1, a2) = subplots(1, 2, figsize=(13, 4.9))
     groups: dict = {}
     for r in data.size:
@@ -57,23 +59,28 @@ def plateau_vs_n_side(data, out_dir, name="plateau_vs_n_side.png"):
                                            for j in sel]).T,
                             fmt=mk, ms=5, capsize=2, color=col, mfc=mfc,
                             label=label if reached or len(sel) == len(rows) else None)
-        rel = [j for j, r in enumerate(rows) if math.isfinite(r.rel)]
+        rel = [j for j, r in enumerate(rows) if math.isfinite(r.rel) and r.rel > -1.0]
         if rel:
-            y = [100 * rows[j].rel for j in rel]
-            yerr = np.array([err(100 * rows[j].rel, tuple(100 * v for v in rows[j].rel_ci))
-                             for j in rel]).T
-            a2.errorbar(x[rel], y, yerr=yerr, fmt=mk + "-", ms=5, lw=1, capsize=2, color=col)
+            # the ratio to the largest brush on a log axis: a rough brush's x 30 and a smooth
+            # one's 5 % are both read off it (bars clipped where a range reaches ratio 0)
+            y = [1.0 + rows[j].rel for j in rel]
+            lo = [max(1.0 + rows[j].rel_ci[0], FLOOR * y[i]) for i, j in enumerate(rel)]
+            hi = [1.0 + rows[j].rel_ci[1] for j in rel]
+            yerr = np.array([[v - a for v, a in zip(y, lo)], [b - v for v, b in zip(y, hi)]])
+            a2.errorbar(x[rel], y, yerr=np.maximum(yerr, 0.0), fmt=mk + "-", ms=5, lw=1,
+                        capsize=2, color=col)
     if groups:
         for ax in (a1, a2):
             _size_axis(ax, sizes)
         legend(a1, ncol=1 if m <= 8 else 2)
-        a2.axhline(0, color="0.5", lw=0.8)
+        a2.set_yscale("log")
+        a2.axhline(1.0, color="0.5", lw=0.8)
     a1.set_ylabel(f"plateau {FA}")
     a1.set_title(f"plateau {FA} against the brush size (seed intervals; open: not reached)",
                  fontsize=10)
-    a2.set_ylabel(f"plateau change against n_side = {ref} (%)")
-    a2.set_title(f"relative change against n_side = {ref} (bars: the range the two seed "
-                 "intervals allow)", fontsize=10)
+    a2.set_ylabel(f"plateau / plateau at n_side = {ref} (log axis)")
+    a2.set_title(f"ratio to n_side = {ref} (bars: the range the two seed intervals allow)",
+                 fontsize=10)
     fig.suptitle("one line per (k̃, σ̃); markers offset slightly in n_side so that the bars stay "
                  "apart", fontsize=9)
     fig.tight_layout()
