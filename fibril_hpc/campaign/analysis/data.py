@@ -107,9 +107,8 @@ class CampaignData:
         str; ``finished`` a UTC datetime), followed by ``n_side`` (int64) when the brush size is
         an axis of the file (:attr:`n_side_swept`), then by one column per swept lab field
         (:attr:`lab_sweeps`: float, or str for names and files), then, for a grid in physical
-        units, by the
-        SI columns of :data:`~fibril_hpc.campaign.analysis.si.SI_COLUMNS` (N, m, N/m); needs
-        pandas (``pip install 'fibril-hpc[report]'``)."""
+        units, by the SI columns of :data:`~fibril_hpc.campaign.analysis.si.SI_COLUMNS` (N, m,
+        N/m); needs pandas (``pip install 'fibril-hpc[report]'``)."""
         try:
             import pandas as pd
         except ImportError:

@@ -65,11 +65,6 @@ def _cells(jobs, dims):
     if SIZE_DIM in dims and any(j.get(SIZE_DIM) is None for j in jobs):
         raise ConfigError("to_xarray", "a job without a stored scene (no n_side)",
                           "jobs whose brush size is known (use to_dataframe())")
-    for d in dims:
-        if any(isinstance(j[d], float) and math.isnan(j[d]) or j[d] == "" for j in jobs):
-            raise ConfigError("to_xarray", f"a job of none of the grid's {d} values",
-                              "jobs of the listed combinations of the swept values (use "
-                              "to_dataframe())")
     coords = {d: np.array(sorted({j[d] for j in jobs})) for d in dims}
     index = {d: {v: i for i, v in enumerate(coords[d])} for d in dims}
     cells = [tuple(index[d][j[d]] for d in dims) for j in jobs]
@@ -100,6 +95,11 @@ def to_xarray(data, curves: bool = True):
     jobs = data.jobs
     if lab:                      # the swept values as the table writes them (float or text)
         cols = {n: data.lab_column(n) for n in lab}
+        for n, vals in cols.items():
+            if any(v == "" or (isinstance(v, float) and math.isnan(v)) for v in vals):
+                raise ConfigError("to_xarray", f"a job of none of the grid's {n} values",
+                                  "jobs of the listed combinations of the swept values (use "
+                                  "to_dataframe())")
         jobs = [{**j, **{n: cols[n][i] for n in lab}} for i, j in enumerate(jobs)]
     dims = lab + ((SIZE_DIM,) if data.n_side_swept else ()) + DIMS
     coords, cells, kind = _cells(jobs, dims)

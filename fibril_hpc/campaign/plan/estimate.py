@@ -51,7 +51,7 @@ PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
 #: with the pillar count N_p away from it: ~ N_p^SIZE_GROWTH[0] below, ~ N_p^SIZE_GROWTH[1]
 #: above (the growth table at `default`, one path per size: 8 -> 18 x 18 as N_p^0.87, 18 -> 64 x
 #: 64 as N_p^0.62 with the lattice coarse level; benchmarks/NOTES.md, issue 21). Pairs in
-#: proportion to N_p, as fitted before the coarse levels, priced a 64 x 64 round 2.6x too dear.
+#: proportion to N_p, as fitted before the coarse levels, gave a 64 x 64 path 2.6x its pairs.
 SIZE_REF = 324
 SIZE_GROWTH = (0.87, 0.62)
 #: all-in CPU per FFT pair of a path over the bare timed pair, per preset (the means measured on
