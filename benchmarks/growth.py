@@ -4,14 +4,19 @@
     python benchmarks/growth.py --sides 12 18 24 --preset fast
     python benchmarks/growth.py --sides 36 --threads 1 2          # one scene on one and two threads
     python benchmarks/growth.py --sides 36 --preconditioner block two_level
+    python benchmarks/growth.py --sides 18 --floor               # per pair over the bare full pair
 
 One scene per brush side n (n x n pillars, k~ = 0.01, sigma~ = 0.5, F~_P = 4, seed 0 unless
 given), each run in a fresh child process so that its peak memory is its own. Printed per row:
 pillars N_p, the FFT side m, FFT pairs, CG solves, contact events, pairs per event, CPU and wall
 seconds, peak resident memory, F~_A and the preconditioner that ``auto`` chose; under the table
 the power laws fitted over the rows of one configuration (cost ~ N_p^b, least squares in log-log)
-and, with two thread counts, the wall-time ratio per size. Writes CSV and JSON into
-``benchmarks/results/`` with the command, the commit and the load. Nothing here asserts a time.
+and, with two thread counts, the wall-time ratio per size. With ``--floor`` each child also times
+the bare full pair on its own FFT side after the curve (a plain pyFFTW ``rfft2`` + ``irfft2`` of
+m x m, one thread, CPU median of 7, with the engine's ``FFTW_ESTIMATE`` plans and with
+``FFTW_MEASURE`` ones) and the table gains the curve's CPU per counted pair over each. Writes
+CSV and JSON into ``benchmarks/results/`` with the command, the commit and the load. Nothing here
+asserts a time.
 """
 
 from __future__ import annotations
@@ -53,7 +58,22 @@ def child(args: dict) -> dict:
             "pairs_per_event": st["fft_pairs"] / max(st["events"], 1), "cpu_s": cpu,
             "wall_s": wall, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
             "F_A": r.main.F_A, "F_P": r.main.F_P, "status": r.status,
-            "load_1min": os.getloadavg()[0]}
+            "load_1min": os.getloadavg()[0], **(_floors(r.discretisation.get("fft_size"), cpu,
+                                                        st["fft_pairs"]) if args.get("floor")
+                                                else {})}
+
+
+def _floors(m: int, cpu: float, pairs: int) -> dict:
+    """The bare full pair on side ``m`` with either planner (ms, CPU median of 7), and the
+    curve's CPU per counted pair over each."""
+    from benchmarks.fibril_bench.timing import floor_pair
+
+    out = {}
+    for planner in ("estimate", "measure"):
+        ms = floor_pair(m, planner, 7)["cpu_median_s"] * 1e3
+        out[f"floor_{planner}_ms"] = ms
+        out[f"per_pair_over_{planner}"] = cpu * 1e3 / max(pairs, 1) / ms
+    return out
 
 
 def run_child(args: dict) -> dict:
@@ -89,6 +109,8 @@ def main(argv=None) -> int:
     p.add_argument("--sigma", type=float, default=0.5, help="sigma_tilde")
     p.add_argument("--F-P", type=float, default=4.0, help="force preload")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--floor", action="store_true",
+                   help="also time the bare full pair on each FFT side (both planners)")
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     a = p.parse_args(argv)
     rows = []
@@ -97,7 +119,7 @@ def main(argv=None) -> int:
             for th in a.threads:
                 row = run_child({"n_side": n, "preset": a.preset, "preconditioner": pc,
                                  "threads": th, "k": a.k, "sigma": a.sigma, "F_P": a.F_P,
-                                 "seed": a.seed})
+                                 "seed": a.seed, "floor": a.floor})
                 rows.append(row)
                 print(f"  n_side {n} {pc} ({row['chosen']}) threads {th}: {row['fft_pairs']} pairs, "
                       f"{row['events']} events, {row['cpu_s']:.1f} CPU s, "
@@ -112,7 +134,11 @@ def main(argv=None) -> int:
                      f"{r['chosen']:>10s} {r['threads']:3d} {r['fft_size']:5d} "
                      f"{r['fft_pairs']:7d} {r['cg_solves']:6d} {r['events']:6d} "
                      f"{r['pairs_per_event']:8.2f} {r['cpu_s']:8.1f} {r['wall_s']:8.1f} "
-                     f"{r['peak_rss_mb']:7.0f} {r['F_A']:11.8f}")
+                     f"{r['peak_rss_mb']:7.0f} {r['F_A']:11.8f}"
+                     + (f"  per pair {r['per_pair_over_estimate']:.2f}x the bare pair "
+                        f"({r['floor_estimate_ms']:.2f} ms ESTIMATE), "
+                        f"{r['per_pair_over_measure']:.2f}x ({r['floor_measure_ms']:.2f} ms "
+                        "MEASURE)" if "floor_estimate_ms" in r else ""))
     fits = {}
     for pc in a.preconditioner:
         for th in a.threads:
