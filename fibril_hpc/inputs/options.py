@@ -86,10 +86,10 @@ class SolverOptions:
     fft_threads : int or None
         Threads of the FFT pair; ``None`` (default) means one. With T > 1 each pair's rows and
         column blocks are shared between T threads (bitwise the same product): worth it for a
-        lone big scene (36 x 36: 1.33x in wall time on two threads) and not for small ones
-        (the default 18 x 18 scene: 1.02x), whose time is mostly outside the FFT
-        (``benchmarks/NOTES.md``). MPI campaigns run one single-threaded job per rank. BLAS and
-        the numba kernels run on one thread.
+        lone big scene (36 x 36: 1.14-1.28x in wall time on two threads, measured in two
+        sessions) and not for small ones (the default 18 x 18 scene: 1.02x), where less of the
+        time is in the FFT (``benchmarks/NOTES.md``). MPI campaigns run one single-threaded job
+        per rank. BLAS and the numba kernels run on one thread.
     fft_planner : str
         FFTW planning effort: ``"estimate"`` (default, instant), ``"measure"`` or ``"patient"``.
     cascade : str
