@@ -51,16 +51,17 @@ def child(args: dict) -> dict:
     r = simulate(scene)
     cpu, wall = time.process_time() - t0, time.perf_counter() - w0
     st = r.stats
-    return {"n_side": args["n_side"], "pillars": args["n_side"]**2, "preset": args["preset"],
-            "preconditioner": args["preconditioner"], "chosen": st.get("preconditioner", ""),
-            "threads": args["threads"], "fft_size": r.discretisation.get("fft_size"),
-            "fft_pairs": st["fft_pairs"], "cg_solves": st["cg_solves"], "events": st["events"],
-            "pairs_per_event": st["fft_pairs"] / max(st["events"], 1), "cpu_s": cpu,
-            "wall_s": wall, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-            "F_A": r.main.F_A, "F_P": r.main.F_P, "status": r.status,
-            "load_1min": os.getloadavg()[0], **(_floors(r.discretisation.get("fft_size"), cpu,
-                                                        st["fft_pairs"]) if args.get("floor")
-                                                else {})}
+    row = {"n_side": args["n_side"], "pillars": args["n_side"]**2, "preset": args["preset"],
+           "preconditioner": args["preconditioner"], "chosen": st.get("preconditioner", ""),
+           "threads": args["threads"], "fft_size": r.discretisation.get("fft_size"),
+           "fft_pairs": st["fft_pairs"], "cg_solves": st["cg_solves"], "events": st["events"],
+           "pairs_per_event": st["fft_pairs"] / max(st["events"], 1), "cpu_s": cpu,
+           "wall_s": wall, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+           "F_A": r.main.F_A, "F_P": r.main.F_P, "status": r.status,
+           "load_1min": os.getloadavg()[0]}
+    if args.get("floor"):           # after the curve and its peak memory
+        row.update(_floors(row["fft_size"], cpu, st["fft_pairs"]))
+    return row
 
 
 def _floors(m: int, cpu: float, pairs: int) -> dict:
