@@ -61,6 +61,17 @@ class SolverOptions:
     load_event_merge : float
         The same while loading, where it hardly changes F_A (the set at the preload is what
         matters) but saves many solves. Range [0, 1]. Default 1e-2.
+    load_merge_spread : float
+        While loading, a batch also spans at most this fraction of the scene's own length
+        spread s (the standard deviation of the realised pillar setbacks, tip offsets included):
+        the batch is ``min(load_event_merge d_c, load_merge_spread s)``. A smooth brush (sigma~
+        = 0.01: every length within about 0.06 d_c) then still touches pillar by pillar and the
+        rise of F~_A with preload is resolved; with ``load_event_merge`` in d_c alone the
+        ``fast`` preset put all 324 pillars of an 18 x 18 brush in one batch. Only brushes with
+        sigma~ < ``load_event_merge / load_merge_spread`` feel it (below 0.1 for ``default``,
+        below 1 for ``fast``). At 0.1, F~_A at the smallest preloads of a sigma~ = 0.01 brush is
+        within 3 % of the unbatched path; 0.01 brings it within 0.1 % at 1.5x the FFT pairs
+        (benchmarks/NOTES.md, "Loading batches and the rise"). Range [0, 100]. Default 0.1.
     max_events : int
         Cap on contact-set events along one curve (a runaway guard). Default 1_000_000.
     max_wall_s : float or None
@@ -119,6 +130,7 @@ class SolverOptions:
     relax_tol: float = _opt(1e-5, "accuracy", Real(0, 1e-2, lo_open=True))
     event_merge: float = _opt(1e-4, "accuracy", Real(0, 1))
     load_event_merge: float = _opt(1e-2, "accuracy", Real(0, 1))
+    load_merge_spread: float = _opt(0.1, "accuracy", Real(0, 100), extra=True)
     max_events: int = _opt(1_000_000, "resource", Int(1, 10**9))
     max_wall_s: float | None = _opt(None, "resource", Real(0, lo_open=True, none="null"))
     preconditioner: str = _opt("auto", "accuracy",
