@@ -32,25 +32,66 @@ def test_the_plateau_is_where_F_A_stops_rising():
     assert still.top_lo <= still.plateau <= still.top_hi        # a lower bound: F~_A at the top
 
 
-def test_a_flat_group_is_a_measured_zero_and_identical_seeds_do_not_break_it():
-    # the trigger: every seed the same F~_A (the last pillar's pull-off) at every preload
+FLOOR = reading.pillar_floor(18, 0.16)
+
+
+def test_a_flat_group_at_the_pillar_floor_is_adhesion_lost_and_a_flat_plateau_is_unresolved():
+    # every seed the same F~_A (the last pillar's pull-off) at every preload: adhesion lost
     seed, pre, x, y = _group(lambda p: 0.0075, noise=0.0)
-    r = reading.read_group(seed, pre, x, y)
-    assert r.plateau_state == "no rise" and r.c == 0.0 and r.c0 == 0.0
+    r = reading.read_group(seed, pre, x, y, floor=FLOOR)
+    assert r.state == reading.LOST and r.c == 0.0 and r.c0 == 0.0
     assert r.plateau == pytest.approx(0.0075) and not r.rises
-    st = study_k(1.0, {2.1: (seed, pre, x, y)}, n_boot=50)
+    st = study_k(1.0, {2.1: (seed, pre, x, y)}, n_boot=50, floor=FLOOR)
     assert st.groups[0].c_ci == (0.0, 0.0) and st.groups[0].in_fit
+    # the same flat curve far above the floor: the rise lies below the smallest preload
+    flat = reading.read_group(seed, pre, x, 1.96 + 0 * y, floor=FLOOR)
+    assert flat.state == reading.UNRESOLVED and math.isnan(flat.c)
+    assert flat.c_lower == pytest.approx(1.96 / 0.001) and flat.resolve_below == pytest.approx(1e-4)
+    assert "rise not resolved" in flat.c_notes[-1] and "0.0001" in flat.c_notes[-1]
+    st = study_k(1.0, {0.01: (seed, pre, x, 1.96 + 0 * y)}, n_boot=50, floor=FLOOR)
+    assert not st.groups[0].in_fit and "lower bound" in st.groups[0].why_out
+    # without a floor the two cannot be told apart: undetermined, never a zero
+    none = reading.read_group(seed, pre, x, y)
+    assert none.state == reading.UNDETERMINED and math.isnan(none.c)
 
 
-def test_c_is_the_chord_over_the_first_half_of_the_rise_and_c0_the_first_contacts():
+def test_a_first_contact_that_overshoots_says_no_smaller_preload_is_reachable():
+    seed = np.repeat([0, 1], 4)
+    pre = np.tile([0.001, 0.004, 0.25, 1.0], 2)
+    x = np.tile([0.03, 0.03, 0.25, 1.0], 2)            # 0.001 and 0.004 reached at 0.03
+    y = np.tile([1.04, 1.04, 1.045, 1.045], 2) * np.repeat([1.0, 1.001], 4)
+    r = reading.read_group(seed, pre, x, y, floor=FLOOR)
+    assert r.state == reading.UNRESOLVED and r.c_lower == pytest.approx(1.04 * 1.0005 / 0.03,
+                                                                        rel=1e-3)
+    assert "overshot" in r.c_notes[-1] and math.isnan(r.resolve_below)
+
+
+def test_c_is_the_slope_through_the_origin_of_the_linear_stage_and_c0_the_first_contacts():
     c_true, P = 8.0, 1.0
-    p0 = 0.002
-    half_at = (p0 + P / c_true) / 2                       # on the linear stage, a level itself
-    pre = sorted({p0, 0.02, half_at, 0.5, 1.0, 4.0})
-    r = reading.read_group(*_group(lambda p: min(c_true * p, P), pre=pre, noise=0.0))
-    assert r.plateau_state == "reached" and r.plateau == pytest.approx(P)
-    assert r.c == pytest.approx(c_true, rel=1e-9) and r.F_P_half == pytest.approx(half_at)
+    pre = [0.002, 0.01, 0.03, 0.5, 1.0, 4.0]
+    r = reading.read_group(*_group(lambda p: min(c_true * p, P), pre=pre, noise=0.0),
+                           floor=FLOOR)
+    assert r.state == reading.RESOLVED and r.plateau_state == "reached"
+    assert r.plateau == pytest.approx(P)
+    assert r.c == pytest.approx(c_true, rel=1e-9) and r.n_stage == 2     # 0.002: < 3 pillars
+    # the half point is interpolated across the bend at 1/8 between the levels 0.03 and 0.5
+    assert r.F_P_half == pytest.approx(0.03 + (0.5 - 0.24) / 0.76 * 0.47)
+    assert r.c_half == pytest.approx(0.5 / r.F_P_half)
     assert r.c0 == pytest.approx(c_true, rel=1e-9)       # F~_A/F~_P on the linear stage
+
+
+def test_preloads_added_below_the_rise_do_not_move_c_but_move_the_old_chord():
+    # a first-contact floor (one pillar) below a linear rise: F~_A = max(floor, c F~_P), capped
+    c_true, P = 20.0, 1.5
+    def fa(p):
+        return min(max(0.0083, c_true * p), P)
+    coarse = [0.004, 0.016, 0.064, 0.25, 1.0, 4.0]
+    fine = [1e-5, 1e-4, 4e-4] + coarse
+    a = reading.read_group(*_group(fa, pre=coarse, noise=0.0), floor=FLOOR)
+    b = reading.read_group(*_group(fa, pre=fine, noise=0.0), floor=FLOOR)
+    assert a.state == b.state == reading.RESOLVED
+    assert a.c == pytest.approx(b.c, rel=1e-12) and a.c == pytest.approx(c_true, rel=0.02)
+    assert abs(a.c_chord / b.c_chord - 1) > 0.01          # the chord from the smallest level moves
 
 
 def test_levels_merge_a_first_contact_that_overshot_two_preloads():
@@ -63,8 +104,8 @@ def test_levels_merge_a_first_contact_that_overshot_two_preloads():
 
 
 def test_one_seed_and_one_preload_are_read_with_reasons():
-    r = reading.read_group(*_group(lambda p: math.tanh(p / 0.05), seeds=1))
-    assert r.plateau_state == "reached" and math.isfinite(r.c)
+    r = reading.read_group(*_group(lambda p: math.tanh(p / 0.05), seeds=1), floor=FLOOR)
+    assert r.plateau_state == "reached" and math.isfinite(r.c) and r.state == reading.RESOLVED
     one = reading.read_group(np.array([0]), np.array([1.0]), np.array([1.0]), np.array([0.5]))
     assert one.plateau_state == "not reached" and math.isnan(one.c) and one.notes
     st = study_k(1.0, {0.3: _group(lambda p: math.tanh(p / 0.05), seeds=1)}, n_boot=50)
@@ -98,15 +139,13 @@ def test_study_intervals_hold_the_truth_of_a_noisy_campaign():
     pts = {}
     for i, s in enumerate((0.1, 0.2, 0.4, 0.8)):
         c = a / s - b
-        # chord over the first half of a tanh rise = P/2 / (x_k atanh(1/2)): pick x_k for c
-        xk = P / (2 * c * math.atanh(0.5))
-        # dense preloads: the log interpolation of the half-rise crossing is then exact enough
-        pre = sorted(set(np.geomspace(1e-4, 4, 120).round(7)))
-        pts[s] = _group(lambda p, xk=xk: P * math.tanh(p / xk), pre=pre, seeds=4, noise=0.02,
+        pre = sorted(set(np.geomspace(1e-3, 4, 20).round(7)))
+        pts[s] = _group(lambda p, c=c: min(c * p, P), pre=pre, seeds=6, noise=0.02,
                         rng_seed=i)
-    st = study_k(1.0, pts, n_boot=100)
+    st = study_k(1.0, pts, n_boot=100, floor=FLOOR)
     assert st.ab.ok and st.alpha_ci[0] < a < st.alpha_ci[1] and st.beta_ci[0] < b < st.beta_ci[1]
     assert st.sigma_c_ci[0] < a / b < st.sigma_c_ci[1]
+    assert st.status == "fitted" and st.sigma_c_status == "measured"
     for g in st.groups:
         assert g.plateau_ci[0] <= g.reading.plateau <= g.plateau_ci[1]
         assert g.reading.c == pytest.approx(a / g.sigma_tilde - b, rel=0.1)

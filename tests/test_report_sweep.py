@@ -219,7 +219,7 @@ def test_a_real_swept_campaign_reads_each_variant_as_its_own_grid(tmp_path):
     assert _csv(tmp_path / "default" / "plateau.csv") == _csv(tmp_path / "one-0.5" /
                                                               "plateau.csv")
     a, b = (float(_csv(tmp_path / f"one-{r}" / "plateau.csv")[0]["plateau"]) for r in RADII)
-    assert abs(a / b - 1) > 0.03        # the variants differ: a mixture would be neither
+    assert abs(a / b - 1) > 0.01        # the variants differ: a mixture would be neither
 
 
 def test_every_table_keeps_the_variants_apart(tmp_path):

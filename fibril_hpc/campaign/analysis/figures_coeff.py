@@ -16,39 +16,62 @@ from .figures import FA, KT, SIG, err, legend, save, say, subplots
 
 def _ab_label(k, st) -> str:
     a = st.ab
-    if not a.ok:
-        return f"{KT}={k:g}: no α/β ({a.notes[0] if a.notes else 'no fit'})"[:70]
-    flag = " — POOR FIT" if a.poor else ""
-    sc = f", {SIG}$_c$={a.sigma_c:.3g}" if math.isfinite(a.sigma_c) else ", β ≤ 0: no $\\tilde\\sigma_c$"
+    if st.status == "undefined":
+        return f"{KT}={k:g}: α, β undefined ({st.status_why or 'no fit'})"[:72]
+    flag = " — POOR FIT" if st.status == "poor fit" else ""
+    sc = (f", {SIG}$_c$={a.sigma_c:.3g}" + (" (pinned)" if st.sigma_c_status == "pinned" else "")
+          if st.sigma_c_status in ("measured", "pinned") else f", {SIG}$_c$ undefined")
     return f"{KT}={k:g}: α={a.alpha:.3g}, β={a.beta:.3g}{sc}{flag}"
 
 
 def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
-    """c against sigma~, linear and log-log, seed intervals, with the fitted lines."""
-    fig, (a1, a2) = subplots(1, 2, figsize=(12, 4.6))
+    """c against sigma~, linear and log-log, seed intervals, with the fitted lines (solid: fitted
+    within the seed scatter; dotted: poor fit; none where alpha and beta are undefined). Filled
+    circles: in the fit; open: left out; triangles: a rise not resolved (c is at least there);
+    crosses: adhesion lost (c = 0)."""
+    fig, (a1, a2) = subplots(1, 2, figsize=(12, 4.8))
     drawn = False
     zeros = []
+    bounds = []
     for i, (k, st) in enumerate(data.studies.items()):
         col = f"C{i % 10}"
-        gs = [g for g in st.groups if math.isfinite(g.reading.c)]
+        gs = [g for g in st.groups if g.sigma_tilde > 0]
+        res = [g for g in gs if g.reading.state == "rise resolved" and math.isfinite(g.reading.c)]
+        labelled = False
         for ax in (a1, a2):
             for infit, mfc in ((True, col), (False, "none")):
-                sel = [g for g in gs if g.in_fit == infit and g.sigma_tilde > 0
-                       and (ax is a1 or g.reading.c > 0)]
+                sel = [g for g in res if g.in_fit == infit and (ax is a1 or g.reading.c > 0)]
                 if not sel:
                     continue
                 drawn = True
+                lab = None
+                if ax is a1 and not labelled:
+                    lab, labelled = _ab_label(k, st), True
                 ax.errorbar([g.sigma_tilde for g in sel], [g.reading.c for g in sel],
                             yerr=np.array([err(g.reading.c, g.c_ci) for g in sel]).T, fmt="o",
-                            ms=5, capsize=2, color=col, mfc=mfc,
-                            label=None if not infit or ax is a2 else _ab_label(k, st))
-        zeros += [(g.sigma_tilde, col) for g in gs if g.reading.c == 0 and g.sigma_tilde > 0]
+                            ms=5, capsize=2, color=col, mfc=mfc, label=lab)
+            ub = [g for g in gs if g.reading.state == "rise not resolved"
+                  and math.isfinite(g.reading.c_lower) and g.reading.c_lower > 0]
+            if ub:
+                drawn = True
+                ax.plot([g.sigma_tilde for g in ub], [g.reading.c_lower for g in ub], "^",
+                        ms=7, color=col, mfc="none",
+                        label=None if labelled or ax is a2 else _ab_label(k, st))
+                labelled = labelled or ax is a1
+                bounds += [g.reading.c_lower for g in ub]
+        lost = [g for g in gs if g.reading.state == "adhesion lost"]
+        if lost:
+            drawn = True
+            a1.plot([g.sigma_tilde for g in lost], [0.0] * len(lost), "x", ms=7, color=col,
+                    label=None if labelled else _ab_label(k, st))
+            labelled = True
+        zeros += [(g.sigma_tilde, col) for g in lost]
         a = st.ab
-        if a.ok:
+        if a.ok and st.status != "undefined":
             lo, hi = min(a.sigmas), max(a.sigmas)
             sg = np.geomspace(lo / 1.3, hi * 1.3, 300)
             fit = ab_model(sg, a.alpha, a.beta)
-            ls = ":" if a.poor else "-"
+            ls = ":" if st.status == "poor fit" else "-"
             a1.plot(sg, fit, ls, color=col, lw=1.2)
             pos = fit > 0
             a2.plot(sg[pos], fit[pos], ls, color=col, lw=1.2)
@@ -60,7 +83,8 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
         a2.set_xscale("log")
         a2.set_yscale("log")
         cpos = [g.reading.c for st in data.studies.values() for g in st.groups
-                if g.reading.c > 0 and g.sigma_tilde > 0]
+                if g.reading.state == "rise resolved" and g.reading.c > 0
+                and g.sigma_tilde > 0] + bounds
         if cpos:                    # the cut line dives to 0 at sigma~_c: keep the data in view
             a2.set_ylim(min(cpos) / 5, max(cpos) * 3)
         for s, col in zeros:
@@ -70,9 +94,9 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
         legend(a1, loc="upper right")
     for ax in (a1, a2):
         ax.set_xlabel(f"roughness {SIG}")
-        ax.set_ylabel("adhesion coefficient c (chord over the first half of the rise)")
-    a1.set_title(f"c = max(α/{SIG} − β, 0) (lines; dotted: poor fit); open: not in the fit",
-                 fontsize=10)
+        ax.set_ylabel("adhesion coefficient c (eq. 15: slope through the origin)")
+    a1.set_title(f"c = max(α/{SIG} − β, 0): solid fitted, dotted poor fit; open: not in the fit;"
+                 " △ rise not resolved (c ≥); × adhesion lost", fontsize=8)
     a2.set_title("log–log (c > 0; arrows: c = 0, adhesion lost)", fontsize=10)
     fig.tight_layout()
     return save(fig, out_dir, name)
@@ -155,37 +179,73 @@ def plateau(data, out_dir, name="plateau.png"):
 
 
 def alpha_sigma_c(data, out_dir, name="alpha_sigma_c.png"):
-    """alpha, beta and sigma~_c against k~, seed intervals; missing values say why."""
+    """alpha, beta and sigma~_c against k~, seed intervals, on linear axes wherever an interval
+    reaches 0 or below (a log axis would hide it). Only k~ whose law is not undefined; open
+    markers: poor fit. sigma~_c: the model-free data bracket first (grey bars), the law's value
+    where it is measured (filled) or pinned to the bracket (open); missing values say why."""
     fig, axes = subplots(1, 3, figsize=(14, 4.4))
-    ks = [k for k, st in data.studies.items() if st.ab.ok]
-    why = "; ".join(f"{KT}={k:g}: {st.ab.notes[0]}" for k, st in data.studies.items()
-                    if not st.ab.ok and st.ab.notes)
+    ks = [k for k, st in data.studies.items() if st.ab.ok and st.status != "undefined"]
+    why = "; ".join(f"{KT}={k:g}: {st.status_why}" for k, st in data.studies.items()
+                    if st.status == "undefined" and st.status_why)
     for ax, (name_, attr, ci) in zip(axes, (("α", "alpha", "alpha_ci"), ("β", "beta", "beta_ci"),
-                                             (f"{SIG}$_c$ = α/β", "sigma_c", "sigma_c_ci"))):
-        pts = [(k, getattr(data.studies[k].ab, attr), getattr(data.studies[k], ci)) for k in ks]
-        pts = [p for p in pts if math.isfinite(p[1])]
-        if pts:
-            ax.errorbar([p[0] for p in pts], [p[1] for p in pts],
-                        yerr=np.array([err(v, c) for _, v, c in pts]).T, fmt="o-", capsize=3,
-                        lw=1)
-            for k, v, c in pts:
-                if math.isinf(c[1]):
-                    ax.annotate("↑ unbounded", (k, v), fontsize=8, textcoords="offset points",
-                                xytext=(4, 6))
-            if len(pts) > 1 and min(p[0] for p in pts) > 0 and \
-                    max(p[0] for p in pts) / min(p[0] for p in pts) >= 10:
-                ax.set_xscale("log")
-            v = [p[1] for p in pts]
-            if attr != "beta" and min(v) > 0 and max(v) / min(v) >= 10:
-                ax.set_yscale("log")
+                                             (f"{SIG}$_c$", "sigma_c", "sigma_c_ci"))):
+        if attr == "sigma_c":
+            drawn = _sigma_c_panel(ax, data)
         else:
-            text = (f"no {name_} to draw:\n" + (why or "no k̃ has α and β")
-                    if not ks else f"no {name_}: β ≤ 0 for every k̃\n(the lines never reach c = 0)")
+            pts = [(k, getattr(data.studies[k].ab, attr), getattr(data.studies[k], ci),
+                    data.studies[k].status == "poor fit") for k in ks]
+            pts = [p for p in pts if math.isfinite(p[1])]
+            drawn = bool(pts)
+            for poor in (False, True):
+                sel = [p for p in pts if p[3] == poor]
+                if sel:
+                    ax.errorbar([p[0] for p in sel], [p[1] for p in sel],
+                                yerr=np.array([err(v, c) for _, v, c, _ in sel]).T, fmt="o",
+                                capsize=3, color="C0", mfc="none" if poor else "C0",
+                                label="poor fit (orientation only)" if poor else "fitted")
+            if pts:
+                lows = [c[0] if math.isfinite(c[0]) else v for _, v, c, _ in pts]
+                v = [p[1] for p in pts]
+                if attr != "beta" and min(lows) > 0 and max(v) / min(v) >= 10:
+                    ax.set_yscale("log")
+                legend(ax)
+        xs = [k for k in data.studies if k > 0]
+        if drawn and len(xs) > 1 and max(xs) / min(xs) >= 10:
+            ax.set_xscale("log")
+        if not drawn:
+            text = f"no {name_} to draw:\n" + (why or "no k̃ has α and β")
             say(ax, "\n".join(text[i:i + 60] for i in range(0, min(len(text), 360), 60)))
-        if attr == "beta":
+        if attr == "beta" or (attr == "alpha" and ax.get_yscale() == "linear"):
             ax.axhline(0, color="0.6", lw=0.5)
         ax.set_xlabel(f"pillar stiffness {KT}")
         ax.set_ylabel(name_)
-        ax.set_title(f"{name_} (seed intervals)", fontsize=10)
+        if attr != "sigma_c":
+            ax.set_title(f"{name_} (seed intervals)", fontsize=10)
     fig.tight_layout()
     return save(fig, out_dir, name)
+
+
+def _sigma_c_panel(ax, data) -> bool:
+    """The data brackets (grey: largest sigma~ with c > 0 to smallest with c = 0; an arrow
+    where no sigma~ run lost adhesion) and alpha/beta where measured or pinned."""
+    drawn = False
+    for k, st in data.studies.items():
+        lo, hi = st.ab.bracket
+        if math.isfinite(lo) and math.isfinite(hi):
+            ax.plot([k, k], [lo, hi], "-", color="0.6", lw=6, alpha=0.6,
+                    label="data bracket" if not drawn else None)
+            drawn = True
+        elif math.isfinite(lo):
+            ax.annotate("", (k, lo * 1.6), xytext=(k, lo),
+                        arrowprops={"arrowstyle": "->", "color": "0.5"})
+            ax.plot([k], [lo], "_", color="0.5", ms=10)
+            drawn = True
+        if st.sigma_c_status in ("measured", "pinned") and math.isfinite(st.ab.sigma_c):
+            pinned = st.sigma_c_status == "pinned"
+            ax.errorbar([k], [st.ab.sigma_c], yerr=np.array([err(st.ab.sigma_c, st.sigma_c_ci)]).T,
+                        fmt="o", capsize=3, color="C3", mfc="none" if pinned else "C3")
+            drawn = True
+    if drawn:
+        ax.set_yscale("log")
+    ax.set_title(f"{SIG}$_c$: grey the data bracket; ● α/β measured, ○ pinned", fontsize=9)
+    return drawn

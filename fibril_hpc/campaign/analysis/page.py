@@ -16,28 +16,43 @@ import re
 from .variants import label, show_value
 
 DEFINITIONS = """\
-* **Plateau**: the preload-insensitive F̃_A. From the largest preload down, a preload joins the
-  plateau set while its seed-mean F̃_A is not below the set's mean by more than 2 standard errors
-  of the difference of the seed means (at least 1 % of the plateau; 3 % with one seed). The
-  plateau is the set's mean; with fewer than two preloads in the set it is *not reached* (F̃_A
-  still rises at the largest preload: a lower bound). When every preload is in the set, F̃_A
-  does not rise (*no rise*): c = c₀ = 0, a measured loss of adhesion.
-* **c** (the adhesion coefficient of He, Li & Popov, on the plateau's scale): the chord slope over
-  the first half of the rise, (F̃_A,½ − F̃_A,0)/(F̃_P,½ − F̃_P,0), from the smallest preload
-  (F̃_P,0, F̃_A,0) to where the seed-mean curve first reaches F̃_A,½ = F̃_A,0 + (plateau − F̃_A,0)/2
-  (interpolated in log F̃_P). It is the slope seen on the paper's linear axes.
+* **Plateau**: the preload-insensitive F̃_A. From the largest preload holding every seed down, a
+  preload joins the plateau set while its seed-mean F̃_A is not below the set's mean by more than
+  2 standard errors of the difference of the seed means (at least 1 % of the plateau; 3 % with
+  one seed). The plateau is the set's mean; with fewer than two preloads in the set it is *not
+  reached* (F̃_A still rises at the largest preload: a lower bound). A preload holding fewer
+  seeds than the group (seeds per level in bold) is flagged and never sets the plateau alone.
+* **State of the rise**, one of three: *adhesion lost* - the plateau is at most 3 pillars'
+  pull-off (the floor: one flat pillar's Kendall force φ^¼/N^¾ on this scale, N pillars), c = c₀ = 0,
+  a measurement; *rise not resolved* - F̃_A at the smallest preload reached is already half the
+  plateau or more: c ≥ F̃_A,0/F̃_P,0 is a lower bound, left out of the α/β fit, and the note says
+  which preload would resolve it (or that the first contact overshot every smaller preload);
+  *rise resolved* - the seed-mean curve crosses half the plateau above the smallest preload.
+* **c** (eq. 15 of He, Li & Popov, F̃_A = c F̃_P on the linear stage): the least-squares slope
+  through the origin over the levels with F̃_A between 3 pillars' pull-off and half the plateau,
+  above the first-contact floor (levels whose F̃_A hardly changes to the next); preloads added
+  below the rise do not move it. Where no level lies there, the secant to the half point (noted
+  as coarse). Other readings in `coefficients.csv`: *c_half* = (plateau/2)/F̃_P,½, the secant
+  through the origin to where the curve first reaches half the plateau; *c_chord*, the chord over
+  the first half of the rise from the smallest preload (the report's c before; it moves with the
+  smallest preload).
 * **c₀** (the first-contact slope): the geometric mean of F̃_A/F̃_P over the preloads in the first
   quarter of the rise, where a few pillars carry the pull-off. It depends on the smallest preload
   (given beside it).
 * **α, β, σ̃_c**: c = max(α/σ̃ − β, 0) fitted per k̃ (scipy.optimize.least_squares, weights 1/sd of
-  c from the seeds); groups with c = 0 enter the fit; groups whose plateau was not reached and
-  σ̃ = 0 do not. σ̃_c = α/β where β > 0. *Poor fit*: χ² above its 99 % point (residuals beyond
-  the seed scatter).
-* **Errors**: [seed CI] is the 2.5–97.5 % range of a bootstrap over seeds (seed labels resampled
-  jointly for a k̃, every reading redone; with three seeds, read it as the seed range). **bias** is
-  the preset's discretisation error of F̃_A measured against the converged reference of the
-  default scene (benchmarks/NOTES.md §27b), carried to every force-like number as a relative
-  error (σ̃_c, a ratio, is unaffected). **larger error** names the one that dominates.
+  c from the seeds); groups that lost adhesion enter with c = 0; σ̃ = 0, plateaus not reached and
+  rises not resolved do not. The law is *fitted* only when χ² is below its 99 % point and α's
+  interval excludes 0; a *poor fit* is shown for orientation; otherwise *undefined*, with the
+  reason. σ̃_c = α/β is *measured* when the law is fitted and β's interval excludes 0; where it
+  falls inside the model-free data bracket (largest σ̃ with c > 0, smallest with c = 0) it is
+  *pinned* by the c = 0 point and the bracket is the measurement.
+* **Errors**: [seed CI] is a bootstrap over seeds (seed labels resampled jointly for a k̃, every
+  reading redone), its 2.5–97.5 % range widened about the value by t/z·√(n/(n−1)) for n seeds
+  (over synthetic groups of known truth it then held the true c in 90 % of draws at 3 seeds and
+  94–97 % at 5–10). **bias** is the preset's discretisation error of F̃_A measured against the
+  converged reference of the default scene (benchmarks/NOTES.md §27b), carried to every
+  force-like number as a relative error (σ̃_c, a ratio, is unaffected). **larger error** names
+  the one that dominates.
 """
 
 

@@ -22,7 +22,7 @@ import numpy as np
 from ...errors import ConfigError
 from ..laws import fit as _fit
 from ..laws.intervals import dominant, preset_bias
-from ..laws.reading import levels
+from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED, levels, pillar_floor
 from ..laws.size import DIFFERS, WITHIN, size_rows
 from ..laws.study import N_BOOT, study
 from .variants import Variant, select
@@ -75,6 +75,9 @@ class ReportData:
     size: list = field(default_factory=list)
     #: a grid sweeping lab fields (other than k_machine, n_side): the combination read, or None
     variant: Variant | None = None
+    #: one pillar's pull-off on the report's scale (:func:`.laws.reading.pillar_floor`), and how
+    floor: float = math.nan
+    floor_note: str = ""
 
     def main_jobs(self, jobs) -> list:
         """The jobs the per-(k~, sigma~) readings use: those of :attr:`variant` and
@@ -140,6 +143,40 @@ def campaign_preset(meta, jobs) -> tuple[str, float | None]:
     return "", None
 
 
+def campaign_floor(meta, jobs, n_side=None) -> tuple[float, str]:
+    """(one pillar's pull-off, how it was computed) from the campaign's scene: ``n_side`` (the
+    one read, else the scene's) and ``phi`` of the resolved grid in the file's ``campaign_yaml``
+    or of the first done job's scene; NaN (and why) when neither tells, or when the pillars are
+    not flat punches (the floor is Kendall's flat punch)."""
+    import yaml
+
+    from ...inputs.scene import Scene
+
+    texts = [meta.get("campaign_yaml")] + [j.get("scene_yaml") for j in jobs
+                                            if j.get("status") == "done"][:1]
+    dflt = Scene()
+    for text in texts:
+        try:
+            d = yaml.safe_load(text or "") or {}
+        except yaml.YAMLError:
+            continue
+        d = d.get("scene", d) if isinstance(d, dict) else {}
+        if not isinstance(d, dict):
+            continue
+        try:
+            n = int(n_side if n_side is not None else d.get("n_side", dflt.n_side))
+            phi = float(d.get("phi", dflt.phi))
+        except (TypeError, ValueError):
+            continue
+        if str(d.get("tip", "flat")) != "flat" or n < 1 or not 0 < phi < 1:
+            return math.nan, "no pillar floor: the tips are not flat punches"
+        f = pillar_floor(n, phi)
+        return f, (f"one flat pillar's Kendall pull-off phi^(1/4) / N^(3/4) = {f:.3g} for "
+                   f"N = {n * n} pillars at phi {phi:g}; adhesion lost: a plateau of at most "
+                   f"{FEW_PILLARS:g} x that ({FEW_PILLARS * f:.3g})")
+    return math.nan, "no scene to tell the pillar floor"
+
+
 def grid_n_sides(meta) -> list:
     """The ``sweep.n_side`` values of the file's own grid (``campaign_yaml``), or []."""
     import yaml
@@ -181,29 +218,64 @@ def law_rows(points: dict, studies: dict) -> dict:
 
 
 def headline(d: ReportData) -> list:
-    """The page's first lines: what the campaign gives; where alpha/beta are empty, why."""
+    """The page's first lines: what the campaign gives, what it does not and why (a poor fit is
+    never "fitted"; an undefined alpha, beta or sigma~_c says why), the states of the groups."""
     lines = []
-    fitted = [k for k, st in d.studies.items() if st.ab.ok]
     if not d.studies:
         lines.append(f"No done job with finite forces ({d.n_jobs} job records, {d.n_failed} "
                      "failed): nothing to read. " + GRID_ADVICE + ".")
         return lines
-    if fitted:
-        lines.append("alpha and beta fitted for k~ = " + ", ".join(f"{k:g}" for k in fitted)
-                     + f" (of {len(d.studies)} k~).")
-    missing = [k for k in d.studies if k not in fitted]
-    if missing:
+    by = {s: [k for k, st in d.studies.items() if st.status == s]
+          for s in ("fitted", "poor fit", "undefined")}
+    ks = ", ".join
+    if by["fitted"]:
+        lines.append("alpha and beta fitted within the seed scatter for k~ = "
+                     + ks(f"{k:g}" for k in by["fitted"]) + f" (of {len(d.studies)} k~).")
+    else:
+        lines.append(f"alpha and beta fitted within the seed scatter for none of the "
+                     f"{len(d.studies)} k~.")
+    if by["poor fit"]:
+        lines.append("POOR FIT (c = alpha/sigma~ - beta does not describe c within the seed "
+                     "scatter; alpha and beta shown for orientation only) for k~ = "
+                     + ks(f"{k:g} (chi^2/dof {d.studies[k].ab.chi2_red:.3g})"
+                          for k in by["poor fit"]) + ".")
+    if by["undefined"]:
         out: dict = {}
-        for k in missing:
+        for k in by["undefined"]:
             for g in d.studies[k].groups:
                 if g.why_out:
-                    out.setdefault(g.why_out, []).append(f"({k:g}, {g.sigma_tilde:g})")
+                    out.setdefault(g.why_out.split(":")[0], []).append(
+                        f"({k:g}, {g.sigma_tilde:g})")
         why = "; ".join(f"{w}: {', '.join(v)}" for w, v in out.items())
-        lines.append("No alpha and beta for k~ = " + ", ".join(f"{k:g}" for k in missing)
-                     + ": " + "; ".join(f"k~ = {k:g}: {d.studies[k].ab.notes[0]}"
-                                        for k in missing if d.studies[k].ab.notes)
+        lines.append("alpha and beta undefined for k~ = " + ks(f"{k:g}" for k in by["undefined"])
+                     + ": " + "; ".join(f"k~ = {k:g}: {d.studies[k].status_why}"
+                                        for k in by["undefined"])
                      + (f". Left out of the fit: {why}" if why else "") + ". " + GRID_ADVICE
                      + ".")
+    sc = {s: [k for k, st in d.studies.items() if st.sigma_c_status == s]
+          for s in ("measured", "pinned")}
+    if sc["measured"] or sc["pinned"]:
+        lines.append("sigma~_c = alpha/beta " + "; ".join(
+            p for p in (("measured by the law for k~ = " + ks(f"{k:g}" for k in sc["measured"]))
+                        if sc["measured"] else "",
+                        ("pinned to the data bracket for k~ = " + ks(f"{k:g}" for k in sc["pinned"])
+                         + " (the bracket is the measurement)") if sc["pinned"] else "") if p)
+                     + "; elsewhere undefined (see the alpha/beta table).")
+    states: dict = {}
+    for st in d.studies.values():
+        for g in st.groups:
+            states[g.reading.state] = states.get(g.reading.state, 0) + 1
+    n_groups = sum(states.values())
+    lines.append("States of the " + str(n_groups) + " (k~, sigma~): "
+                 + ", ".join(f"{v} {s}" for s, v in sorted(states.items()))
+                 + (f" (pillar floor: {d.floor_note})" if d.floor_note else "") + ".")
+    if states.get(UNRESOLVED):
+        lines.append(f"{states[UNRESOLVED]} (k~, sigma~) have a rise not resolved: F~_A is "
+                     "already near the plateau at the smallest preload reached, c is only a "
+                     "lower bound and stays out of the fit (the coefficients table says which "
+                     "preload would resolve it).")
+    if states.get(LOST):
+        lines.append(f"{states[LOST]} (k~, sigma~) have lost adhesion (c = 0, a measurement).")
     dom: dict = {}
     for st in d.studies.values():
         for g in st.groups:
@@ -263,27 +335,32 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
     # the stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
     jobs = [j for j in read if not kms or float(j.get("k_machine", math.inf)) == kms[0]]
     n_sides, n_read, rows = [], None, []
+    floor, floor_note = campaign_floor(c.meta, done)
     if c.n_side_swept:
         # every brush size read as one campaign; the per-(k~, sigma~) readings at the largest
         by_n = {n: points_by_group([j for j in jobs if j.get("n_side") == n])
                 for n in sorted({j["n_side"] for j in jobs if j.get("n_side") is not None})}
         by_n = {n: p for n, p in by_n.items() if p}
         n_sides = sorted(set(by_n) | set(grid_n_sides(c.meta)))
-        size_studies = {n: study(p, n_boot=n_boot) for n, p in by_n.items()}
+        size_studies = {n: study(p, n_boot=n_boot, floor=campaign_floor(c.meta, done, n)[0])
+                        for n, p in by_n.items()}
         if by_n:
             n_read = max(by_n)
             rows = size_rows(size_studies, max(n_sides))
         points = by_n.get(n_read, {})
         studies = size_studies.get(n_read, {})
+        if n_read is not None:
+            floor, floor_note = campaign_floor(c.meta, done, n_read)
     else:
         points = points_by_group(jobs)
-        studies = study(points, n_boot=n_boot)
+        studies = study(points, n_boot=n_boot, floor=floor)
     preset, epd = campaign_preset(c.meta, done)
     bias, note = preset_bias(preset, epd) if preset else (math.nan, "no scene to tell the preset")
     d = ReportData(path, dict(c.meta), len(c.jobs), len(done),
                    sum(1 for j in c.jobs if j.get("status") != "done"),
                    sum(1 for j in done if not _finite(j)), kms, preset, bias, note, studies,
                    law_rows(points, studies), {k: levels(*p) for k, p in points.items()},
-                   n_boot=n_boot, n_sides=n_sides, n_side=n_read, size=rows, variant=variant)
+                   n_boot=n_boot, n_sides=n_sides, n_side=n_read, size=rows, variant=variant,
+                   floor=floor, floor_note=floor_note)
     d.headline = headline(d)
     return d

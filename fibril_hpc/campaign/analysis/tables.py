@@ -93,33 +93,52 @@ def _ci_csv(ci) -> list:
 
 
 def alpha_beta(d) -> Table:
-    """Per k~: alpha, beta, sigma~_c with seed intervals, the bias, quality and notes."""
+    """Per k~: alpha, beta, sigma~_c with seed intervals, what the page may claim of them (a
+    poor fit for orientation, undefined values with their reason), the bias, quality, notes."""
     t = Table("alpha_beta", "α, β, σ̃_c per k̃ (c = max(α/σ̃ − β, 0))")
-    t.csv_rows.append(["k_tilde", "alpha", "alpha_lo", "alpha_hi", "beta", "beta_lo", "beta_hi",
-                       "sigma_tilde_c", "sigma_tilde_c_lo", "sigma_tilde_c_hi",
-                       "bracket_c_positive_up_to", "bracket_c_zero_from", "n_sigma_in_fit",
-                       "n_c_zero", "chi2_per_dof", "poor_fit", "bias_rel", "dominant_alpha",
-                       "ci_method", "note"])
-    t.page_rows.append(["k̃", "α [seed CI]", "β [seed CI]", "σ̃_c = α/β [seed CI]",
-                        "data bracket of σ̃_c", "σ̃ in fit (c = 0)", "χ²/dof", "bias of α",
-                        "larger error", "note"])
+    t.csv_rows.append(["k_tilde", "status", "alpha", "alpha_lo", "alpha_hi", "beta", "beta_lo",
+                       "beta_hi", "sigma_tilde_c", "sigma_tilde_c_lo", "sigma_tilde_c_hi",
+                       "sigma_tilde_c_status", "bracket_c_positive_up_to", "bracket_c_zero_from",
+                       "n_sigma_in_fit", "n_c_zero", "chi2_per_dof", "poor_fit", "bias_rel",
+                       "dominant_alpha", "ci_method", "note"])
+    t.page_rows.append(["k̃", "law", "data bracket of σ̃_c (model-free)", "α [seed CI]",
+                        "β [seed CI]", "σ̃_c = α/β [seed CI]", "σ̃ in fit (c = 0)", "χ²/dof",
+                        "bias of α", "larger error", "note"])
     for k, st in d.studies.items():
         a = st.ab
-        note = "; ".join(a.notes + st.notes)
-        br = (f"({fmt(a.bracket[0], 'g')}, {fmt(a.bracket[1], 'g')})"
+        note = "; ".join([w for w in (st.status_why, st.sigma_c_why) if w] + a.notes + st.notes)
+        br = (f"({fmt(a.bracket[0], 'g')}, {fmt(a.bracket[1], 'g')}]"
               if any(math.isfinite(x) for x in a.bracket) else "—")
         dom = dominant(a.alpha, st.alpha_ci, d.bias)
-        t.csv_rows.append([repr(k), num(a.alpha), *_ci_csv(st.alpha_ci), num(a.beta),
+        t.csv_rows.append([repr(k), st.status, num(a.alpha), *_ci_csv(st.alpha_ci), num(a.beta),
                            *_ci_csv(st.beta_ci), num(a.sigma_c), *_ci_csv(st.sigma_c_ci),
-                           num(a.bracket[0]), num(a.bracket[1]), str(a.n_points), str(a.n_zero),
-                           num(a.chi2_red), str(a.poor).lower(), num(d.bias), dom, st.ci_method,
-                           note])
-        t.page_rows.append([f"{k:g}", val_ci(a.alpha, st.alpha_ci), val_ci(a.beta, st.beta_ci),
-                            val_ci(a.sigma_c, st.sigma_c_ci, ".3g"), br,
+                           st.sigma_c_status, num(a.bracket[0]), num(a.bracket[1]),
+                           str(a.n_points), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
+                           num(d.bias), dom, st.ci_method, note])
+        shown = st.status != "undefined"
+        law = st.status if st.status == "fitted" else f"**{st.status}**"
+        if st.sigma_c_status == "measured":
+            sc = val_ci(a.sigma_c, st.sigma_c_ci, ".3g")
+        elif st.sigma_c_status == "pinned":
+            sc = f"{fmt(a.sigma_c, '.3g')} (**pinned** to the bracket)"
+        else:
+            sc = "undefined"
+        t.page_rows.append([f"{k:g}", law, br,
+                            val_ci(a.alpha, st.alpha_ci) if shown else "undefined",
+                            val_ci(a.beta, st.beta_ci) if shown else "undefined", sc,
                             f"{a.n_points} ({a.n_zero})", fmt(a.chi2_red, ".3g")
-                            + (" **poor fit**" if a.poor else ""), bias_cell(a.alpha, d.bias),
-                            dom, note])
+                            + (" **poor fit**" if a.poor else ""),
+                            bias_cell(a.alpha, d.bias) if shown else "—", dom, note])
     return t
+
+
+def _seed_counts(r) -> str:
+    """Seeds per level, ascending preload: '3' when every level has the same, else the list."""
+    if not r.seeds:
+        return "—"
+    if len(set(r.seeds)) == 1:
+        return str(r.seeds[0])
+    return "**" + " ".join(str(n) for n in r.seeds) + "**"
 
 
 def plateau(d) -> Table:
@@ -127,40 +146,55 @@ def plateau(d) -> Table:
     t = Table("plateau", "Plateau per (k̃, σ̃): the preload-insensitive F̃_A")
     t.csv_rows.append(["k_tilde", "sigma_tilde", "plateau", "plateau_lo", "plateau_hi",
                        "state", "read_from_F_P", "n_levels_in_plateau", "F_P_largest",
-                       "F_A_largest_seed_min", "F_A_largest_seed_max", "n_seeds", "bias_rel",
-                       "dominant", "note"])
-    t.page_rows.append(["k̃", "σ̃", "plateau [seed CI]", "state", "read from F̃_P ≥",
-                        "F̃_A at the largest F̃_P (seed range)", "seeds", "bias", "larger error",
-                        "note"])
+                       "F_A_largest_seed_min", "F_A_largest_seed_max", "n_seeds",
+                       "seeds_per_level", "group_state", "bias_rel", "dominant", "note"])
+    t.page_rows.append(["k̃", "σ̃", "plateau [seed CI]", "plateau", "state of the rise",
+                        "read from F̃_P ≥", "F̃_A at the largest full level (seed range)",
+                        "seeds (per level if they differ)", "bias", "larger error", "note"])
     for k, st in d.studies.items():
         for g in st.groups:
             r = g.reading
             lv = d.means.get((k, g.sigma_tilde))
-            top = float(lv.F_P[-1]) if lv is not None and len(lv) else math.nan
+            full = [] if lv is None else [i for i in range(len(lv)) if not lv.thin[i]]
+            top = float(lv.F_P[full[-1]]) if full else math.nan
             dom = dominant(r.plateau, g.plateau_ci, d.bias)
             note = "; ".join(r.notes)
             t.csv_rows.append([repr(k), repr(g.sigma_tilde), num(r.plateau),
                                *_ci_csv(g.plateau_ci), r.plateau_state, num(r.plateau_from),
                                str(r.n_plateau), num(top), num(r.top_lo), num(r.top_hi),
-                               str(g.n_seeds), num(d.bias), dom, note])
+                               str(g.n_seeds), " ".join(map(str, r.seeds)), r.state,
+                               num(d.bias), dom, note])
             state = r.plateau_state if r.plateau_state == "reached" else f"**{r.plateau_state}**"
             t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", val_ci(r.plateau, g.plateau_ci),
-                                state, fmt(r.plateau_from, ".3g"),
+                                state, _state_cell(r), fmt(r.plateau_from, ".3g"),
                                 f"{fmt(r.top_lo)} … {fmt(r.top_hi)} at {fmt(top, '.3g')}",
-                                str(g.n_seeds), bias_cell(r.plateau, d.bias), dom, note])
+                                _seed_counts(r), bias_cell(r.plateau, d.bias), dom, note])
     return t
 
 
+def _state_cell(r) -> str:
+    return r.state if r.state == "rise resolved" else f"**{r.state}**"
+
+
+def _c_cell(r, ci) -> str:
+    """c on the page: the value [CI] when the rise is resolved, '≥ bound' when not, 0 when lost."""
+    if r.state == "rise not resolved":
+        return f"≥ {fmt(r.c_lower, '.3g')}"
+    return val_ci(r.c, ci)
+
+
 def coefficients(d) -> Table:
-    """Per (k~, sigma~): c (the paper's adhesion coefficient) and c0 (first contact)."""
+    """Per (k~, sigma~): the state, c (eq. 15 of the paper: slope through the origin over the
+    linear stage), its other readings (c_half, c_chord), c0 (first contact)."""
     t = Table("coefficients", "Adhesion coefficient c and first-contact slope c₀ per (k̃, σ̃)")
-    t.csv_rows.append(["k_tilde", "sigma_tilde", "c", "c_lo", "c_hi", "F_P_half_rise",
-                       "c0", "c0_lo", "c0_hi", "F_P_smallest", "F_A_smallest", "c_detectable",
-                       "in_alpha_beta_fit", "c_minus_law", "bias_rel", "dominant_c", "why_out",
-                       "note"])
-    t.page_rows.append(["k̃", "σ̃", "c [seed CI]", "F̃_P at half rise", "c₀ [seed CI]",
-                        "smallest F̃_P", "in α/β fit: c − law", "bias of c", "larger error",
-                        "note"])
+    t.csv_rows.append(["k_tilde", "sigma_tilde", "state", "c", "c_lo", "c_hi", "c_lower_bound",
+                       "c_half", "c_chord", "n_stage_levels", "F_P_half_plateau",
+                       "resolve_with_F_P_below", "c0", "c0_lo", "c0_hi", "F_P_smallest",
+                       "F_A_smallest", "c_detectable", "in_alpha_beta_fit", "c_minus_law",
+                       "bias_rel", "dominant_c", "why_out", "note"])
+    t.page_rows.append(["k̃", "σ̃", "state", "c [seed CI]", "F̃_P at half plateau",
+                        "c₀ [seed CI]", "smallest F̃_P", "in α/β fit: c − law", "bias of c",
+                        "larger error", "note"])
     for k, st in d.studies.items():
         res = dict(zip(st.ab.sigmas, st.ab.residuals))
         for g in st.groups:
@@ -168,13 +202,15 @@ def coefficients(d) -> Table:
             rr = res.get(g.sigma_tilde, math.nan) if g.in_fit else math.nan
             dom = dominant(r.c, g.c_ci, d.bias)
             note = "; ".join(r.c_notes)
-            t.csv_rows.append([repr(k), repr(g.sigma_tilde), num(r.c), *_ci_csv(g.c_ci),
-                               num(r.F_P_half), num(r.c0), *_ci_csv(g.c0_ci), num(r.F_P0),
-                               num(r.F_A0), num(r.c_detect), str(g.in_fit).lower(), num(rr),
-                               num(d.bias), dom, g.why_out, note])
+            t.csv_rows.append([repr(k), repr(g.sigma_tilde), r.state, num(r.c), *_ci_csv(g.c_ci),
+                               num(r.c_lower), num(r.c_half), num(r.c_chord), str(r.n_stage),
+                               num(r.F_P_half), num(r.resolve_below), num(r.c0),
+                               *_ci_csv(g.c0_ci), num(r.F_P0), num(r.F_A0), num(r.c_detect),
+                               str(g.in_fit).lower(), num(rr), num(d.bias), dom, g.why_out,
+                               note])
             fitcell = (f"yes: {fmt(rr, '+.3g')}" if g.in_fit and st.ab.ok
                        else ("yes (no fit)" if g.in_fit else f"no: {g.why_out}"))
-            t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", val_ci(r.c, g.c_ci),
+            t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", _state_cell(r), _c_cell(r, g.c_ci),
                                 fmt(r.F_P_half, ".3g"), val_ci(r.c0, g.c0_ci), fmt(r.F_P0, ".3g"),
                                 fitcell, bias_cell(r.c, d.bias), dom, note])
     return t

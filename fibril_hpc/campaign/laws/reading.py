@@ -1,12 +1,14 @@
-"""One (k~, sigma~) read from its points, without a law: the plateau, c0 and c.
+"""One (k~, sigma~) read from its points, without a law: its state, the plateau, c and c0.
 
-Inputs are the done jobs of one (k~, sigma~): seed, requested preload, F~_P and F~_A per job.
+Inputs are the done jobs of one (k~, sigma~): seed, requested preload, F~_P and F~_A per job,
+and the *floor*: one pillar's pull-off force on the report's scale (:func:`pillar_floor`).
 
 **Levels.** The jobs are grouped by requested preload; a level is one requested preload, with
 the seed mean of F~_P and of F~_A, the seed standard deviation of F~_A and the seeds present.
 A level whose every seed gave exactly the F~_P and F~_A of the next level (the first contact
 overshoots a small preload: both were reached in the same event) is the same point and is
-merged into it.
+merged into it. A level holding fewer seeds than the group is flagged (``thin``): its mean is
+not comparable with the others', and it never sets the plateau alone.
 
 **Plateau** (the preload-insensitive F~_A). From the largest preload down, a level joins the
 plateau set while its F~_A is not below the mean of the set by more than the *scatter
@@ -18,24 +20,42 @@ seed in the whole group there is no scatter: the tolerance is ``PATH_RTOL`` (3 %
 *reached* when the set holds at least two levels; otherwise F~_A still rises at the largest
 preload ("plateau not reached": the value is F~_A there, a lower bound).
 
-**No rise.** When every level is in the plateau set, F~_A does not rise with preload over the
-preloads run (a rough, stiff brush: the last pillar's pull-off at every preload): both
-coefficients are a measured 0 (adhesion lost), not a missing value.
+**Three states**, decided by the data and the floor, never by one label for two things:
 
-**The rise** runs from F~_A,0 (the smallest level) to the plateau P.
+* *adhesion lost*: the plateau is at most ``FEW_PILLARS`` (3) pillars' pull-off
+  (``FEW_PILLARS * floor``): F~_A stays at the last few pillars' pull-off at every preload (it may
+  creep from one pillar to two or three, but there is no linear stage: F~_A = c F~_P needs many
+  pillars in contact). c = c0 = 0, a measurement.
+* *rise not resolved*: F~_A at the smallest preload reached is already at half the plateau or
+  more (``F~_A,0 >= P/2``: every level in the plateau set is the extreme case) and above the
+  few-pillar floor. The linear stage lies below the smallest preload, so c is only bounded:
+  ``c >= F~_A,0 / F~_P,0`` (on a concave rise through the origin every secant at a smaller
+  preload is steeper). The reading says which preload would resolve it, and whether the first
+  contact overshot the smallest preload asked for (then no smaller preload is reachable on this
+  scene: the brush saturates at first contact). c is out of the alpha/beta fit.
+* *rise resolved*: the seed-mean curve crosses half the plateau above the smallest preload.
 
-* **c** (the adhesion coefficient of He, Li & Popov, on the plateau's scale): the chord slope
-  over the first half of the rise, c = (F~_A,1/2 - F~_A,0) / (F~_P,1/2 - F~_P,0), where
-  F~_A,1/2 = F~_A,0 + (P - F~_A,0)/2 and F~_P,1/2 is where the seed-mean curve first reaches it
-  (interpolated linearly in F~_A against log F~_P between the two levels around it: the preloads
-  are spaced in log). It is the slope a reader sees on the paper's linear axes, and it falls to
-  0 with the rise itself.
-* **c0** (the first-contact slope): the geometric mean of F~_A / F~_P over the levels in the
-  first quarter of the rise (F~_A <= F~_A,0 + (P - F~_A,0)/4; at least the smallest level),
-  where a few pillars carry the whole pull-off. It depends on how small the smallest preload is
-  (the report gives that preload beside it); where the two smallest preloads give nearly the same
-  F~_A (the *first-contact floor*: one pillar's pull-off) it is a ratio, not a slope, and the
-  reading says so.
+**c, eq. 15 of He, Li & Popov** (F~_A = c F~_P on the linear stage, no intercept): the
+least-squares slope through the origin, c = sum(F~_P F~_A) / sum(F~_P^2), over the levels of
+the *linear stage*: the levels of the rise with F~_A <= P/2, less the *first-contact floor* (the
+smallest levels whose F~_A hardly changes to the next one, within ``FLOOR_RATIO``: a few
+pillars' pull-off that does not grow with preload) and any level at or below ``FEW_PILLARS``
+pillars' pull-off. Preloads added below the rise land on the floor and leave c unchanged; above
+P/2 the curve bends to the plateau. Where no level lies on the stage (the rise jumps from the
+floor past half the plateau between two levels), c is ``c_half`` and the reading says it is
+coarse.
+
+Other readings, kept as named columns: ``c_half`` = (P/2) / F~_P,1/2, the secant through the
+origin to the half point, where the seed-mean curve first reaches half the plateau
+(interpolated linearly in F~_P between the two levels around it; it cuts the corner where those
+levels straddle the bend to the plateau); ``c_chord``, the chord over the first half of the rise from the
+smallest level, (F~_A,1/2 - F~_A,0) / (F~_P,1/2 - F~_P,0) with F~_A,1/2 = F~_A,0 + (P - F~_A,0)/2
+and its crossing interpolated in log F~_P (the report's c before: it moves when preloads are
+added below the rise); and **c0**, the
+first-contact slope: the geometric mean of F~_A / F~_P over the levels in the first quarter of
+the rise (F~_A <= F~_A,0 + (P - F~_A,0)/4; at least the smallest level), where a few pillars
+carry the whole pull-off; on the first-contact floor it is a ratio that grows as the preload
+shrinks, and the reading says so.
 """
 
 from __future__ import annotations
@@ -55,6 +75,21 @@ PATH_RTOL = 0.03
 HALF, QUARTER = 0.5, 0.25
 #: the smallest level's F~_A at least this fraction of the next one's: the first-contact floor
 FLOOR_RATIO = 0.95
+#: a plateau of at most this many pillars' pull-off that does not rise: adhesion lost
+FEW_PILLARS = 3.0
+#: the states of a reading (:attr:`Reading.state`)
+RESOLVED, UNRESOLVED, LOST, UNDETERMINED = ("rise resolved", "rise not resolved",
+                                            "adhesion lost", "undetermined")
+STATES = (RESOLVED, UNRESOLVED, LOST, UNDETERMINED)
+#: a smallest reached F~_P above this multiple of the smallest requested preload: overshot
+OVERSHOOT = 1.5
+
+
+def pillar_floor(n_side: int, phi: float) -> float:
+    """One flat pillar's pull-off on the report's scale: Kendall's force of a punch of radius
+    a = a0 sqrt(phi) / n_side over F_c = sqrt(8 pi phi E* dgamma a0^3), that is
+    phi^(1/4) / n_side^(3/2) (0.00828 for 18 x 18 pillars at phi = 0.16)."""
+    return float(phi) ** 0.25 / float(n_side) ** 1.5
 
 
 @dataclass
@@ -71,6 +106,11 @@ class Levels:
 
     def __len__(self):
         return int(self.F_P.size)
+
+    @property
+    def thin(self) -> np.ndarray:
+        """Levels holding fewer seeds than the most any level holds (mixed seed sets)."""
+        return self.n < (self.n.max() if self.n.size else 0)
 
 
 def levels(seed, preload, F_P, F_A) -> Levels:
@@ -128,23 +168,32 @@ class Reading:
     plateau_state: str              # "reached", "not reached", "no rise" or "no data"
     plateau_from: float             # smallest F~_P of the plateau set
     n_plateau: int                  # levels in the plateau set
-    c: float                        # adhesion coefficient (chord over the first half of the rise)
+    c: float                        # eq. 15: slope through the origin over the linear stage
     c0: float                       # first-contact slope (first quarter of the rise)
     F_P0: float                     # smallest F~_P (where the rise starts)
     F_A0: float
-    F_P_half: float                 # where F~_A first reaches half the rise
+    F_P_half: float                 # where F~_A first reaches half the plateau
     c_detect: float                 # smallest c the scatter could tell from 0
     n_levels: int
     n_rise: int                     # levels below the plateau set
-    top_lo: float                   # seed range of F~_A at the largest preload
+    top_lo: float                   # seed range of F~_A at the largest full level
     top_hi: float
     notes: list = field(default_factory=list)          # about the plateau (and the data)
     c_notes: list = field(default_factory=list)        # about c and c0
+    state: str = UNDETERMINED       # one of STATES
+    c_lower: float = math.nan       # rise not resolved: c >= c_lower
+    c_half: float = math.nan        # secant through the origin to the half point
+    c_chord: float = math.nan       # chord over the first half of the rise from the smallest level
+    n_stage: int = 0                # levels on the linear stage (besides the half point)
+    floor: float = math.nan         # one pillar's pull-off (the scale of "adhesion lost")
+    resolve_below: float = math.nan  # rise not resolved: preloads needed at or below this
+    seeds: tuple = ()               # seeds per level, ascending F~_P
+    n_seeds: int = 0                # seeds in the group
 
     @property
     def rises(self) -> bool:
-        """F~_A rises with preload (c and c0 are measured, not 0)."""
-        return self.plateau_state in ("reached", "not reached")
+        """F~_A rises with preload and c is measured (the rise is resolved)."""
+        return self.state == RESOLVED
 
 
 def _tolerances(lv: Levels, n_seeds: int):
@@ -158,13 +207,17 @@ def _tolerances(lv: Levels, n_seeds: int):
 
 
 def plateau_set(lv: Levels, n_seeds: int) -> int:
-    """Index of the smallest level of the plateau set (the set is that level and all above)."""
+    """Index of the smallest level of the plateau set (the set is that level and all above).
+
+    The set starts at the largest level holding the group's full seed set (a thin level above
+    it, one seed's extra preload, joins only if it is not below the set)."""
     n = len(lv)
     se = _tolerances(lv, n_seeds)
-    top = n - 1
+    full = np.flatnonzero(~lv.thin)
+    top = int(full[-1]) if full.size else n - 1
     start = top
     for i in range(top - 1, -1, -1):
-        members = np.arange(start, n)
+        members = np.arange(start, top + 1)
         P = float(np.mean(lv.F_A[members]))
         if se is None:
             tol = PATH_RTOL * abs(P)
@@ -177,78 +230,152 @@ def plateau_set(lv: Levels, n_seeds: int) -> int:
     return start
 
 
-def _crossing(lv: Levels, target: float) -> tuple[float, int]:
-    """First F~_P where the seed-mean curve reaches ``target`` (log F~_P interpolation)."""
+def _crossing(lv: Levels, target: float, log: bool = True) -> tuple[float, int]:
+    """First F~_P where the seed-mean curve reaches ``target`` above the smallest level, and the
+    level at or above it; interpolated linearly in F~_A against log F~_P (``log``) or against
+    F~_P (the linear stage: exact on a straight line); NaN if it never does."""
     for i in range(1, len(lv)):
         if lv.F_A[i] >= target:
             y0, y1 = lv.F_A[i - 1], lv.F_A[i]
             x0, x1 = lv.F_P[i - 1], lv.F_P[i]
             t = 0.0 if y1 == y0 else (target - y0) / (y1 - y0)
-            if x0 > 0 and x1 > 0:
+            if log and x0 > 0 and x1 > 0:
                 return float(math.exp(math.log(x0) + t * math.log(x1 / x0))), i
             return float(x0 + t * (x1 - x0)), i
     return math.nan, len(lv)
 
 
-def read_group(seed, preload, F_P, F_A, half: float = HALF) -> Reading:
-    """The plateau, c and c0 of one (k~, sigma~) from its done jobs (one entry per job); ``half``:
-    the fraction of the rise whose chord is c (the report's 1/2; other values for studies)."""
-    lv = levels(seed, preload, F_P, F_A)
-    n_seeds = int(np.unique(np.asarray(seed)).size)
-    nan = math.nan
-    if len(lv) == 0:
-        return Reading(nan, "no data", nan, 0, nan, nan, nan, nan, nan, nan, 0, 0, nan, nan,
-                       ["no finite F~_P, F~_A"])
-    notes = []
-    s = plateau_set(lv, n_seeds)
-    members = np.arange(s, len(lv))
-    P = float(np.mean(lv.F_A[members]))
-    top_lo, top_hi = float(lv.lo[-1]), float(lv.hi[-1])
-    x0, y0 = float(lv.F_P[0]), float(lv.F_A[0])
-    if len(lv) == 1:
-        why = ["one preload level: no rise or plateau can be read"]
-        return Reading(P, "not reached", x0, 1, nan, nan, x0, y0, nan, nan, 1, 0, top_lo,
-                       top_hi, why, list(why))
-    if s == 0:
-        state = "no rise"
-        notes.append(f"F~_A does not rise with preload over F~_P = {x0:.3g} .. "
-                     f"{lv.F_P[-1]:.3g} (within the seed scatter): c = c0 = 0, adhesion lost")
-    elif members.size >= 2:
-        state = "reached"
-    else:
-        state = "not reached"
-        notes.append(f"plateau not reached: F~_A still rises from {lv.F_A[-2]:.3g} at "
-                     f"F~_P = {lv.F_P[-2]:.3g} to {lv.F_A[-1]:.3g} at {lv.F_P[-1]:.3g}; the "
-                     "plateau is a lower bound and c is provisional")
-    # the smallest c the scatter can tell from 0: a rise of one tolerance over the preloads run
-    rtol = PATH_RTOL if n_seeds < 2 else NUMERIC_RTOL
-    spread = float(np.nanmax(lv.hi - lv.lo)) if n_seeds > 1 else 0.0
-    span = float(lv.F_P[-1] - x0)
-    c_detect = max(spread, rtol * abs(P)) / span if span > 0 else nan
-    if state == "no rise":
-        return Reading(P, state, float(lv.F_P[0]), int(members.size), 0.0, 0.0, x0, y0, nan,
-                       c_detect, len(lv), 0, top_lo, top_hi, notes, list(notes))
-    c_notes = [n for n in notes if n.startswith("plateau not reached")]
-    y_half = y0 + half * (P - y0)
-    xh, _ = _crossing(lv, y_half)
-    c = (y_half - y0) / (xh - x0) if math.isfinite(xh) and xh > x0 else nan
+def _floor_levels(lv: Levels, s: int) -> int:
+    """How many of the smallest levels lie on the first-contact floor (F~_A hardly changes to
+    the next level) below the plateau set's index ``s``."""
+    i = 0
+    while i + 1 < s and lv.F_A[i] >= FLOOR_RATIO * lv.F_A[i + 1]:
+        i += 1
+    return i
+
+
+def _c0(lv: Levels, P: float) -> float:
+    y0 = lv.F_A[0]
     quarter = y0 + QUARTER * (P - y0)
     first = [0]
     while first[-1] + 1 < len(lv) and lv.F_A[first[-1] + 1] <= quarter:
         first.append(first[-1] + 1)
     first = [i for i in first if lv.F_A[i] > 0 and lv.F_P[i] > 0]
-    c0 = float(np.exp(np.mean([math.log(lv.F_A[i] / lv.F_P[i]) for i in first]))) if first \
-        else nan
+    return float(np.exp(np.mean([math.log(lv.F_A[i] / lv.F_P[i]) for i in first]))) if first \
+        else math.nan
+
+
+def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.nan) -> Reading:
+    """The state, plateau, c and c0 of one (k~, sigma~) from its done jobs (one entry per job).
+
+    ``floor``: one pillar's pull-off on the report's scale (:func:`pillar_floor`); without it
+    (NaN) a group that does not rise cannot be told lost from unresolved and is *undetermined*.
+    ``half``: the fraction of the rise of the chord ``c_chord`` (other values for studies)."""
+    lv = levels(seed, preload, F_P, F_A)
+    n_seeds = int(np.unique(np.asarray(seed)).size)
+    nan = math.nan
+    if len(lv) == 0:
+        return Reading(nan, "no data", nan, 0, nan, nan, nan, nan, nan, nan, 0, 0, nan, nan,
+                       ["no finite F~_P, F~_A"], floor=floor, n_seeds=n_seeds)
+    notes: list = []
+    c_notes: list = []
+    s = plateau_set(lv, n_seeds)
+    full = np.flatnonzero(~lv.thin)
+    top = int(full[-1]) if full.size else len(lv) - 1
+    members = np.arange(s, top + 1)
+    P = float(np.mean(lv.F_A[members]))
+    top_lo, top_hi = float(lv.lo[top]), float(lv.hi[top])
+    x0, y0 = float(lv.F_P[0]), float(lv.F_A[0])
+    seeds = tuple(int(v) for v in lv.n)
+    thin = [i for i in range(len(lv)) if lv.thin[i]]
+    if thin:
+        notes.append(f"{len(thin)} level(s) with fewer seeds than the group's {int(lv.n.max())} "
+                     "(F~_P = " + ", ".join(f"{lv.F_P[i]:.3g}: {lv.n[i]}" for i in thin)
+                     + "): not compared with the full levels, never the plateau alone")
+    base = dict(floor=floor, seeds=seeds, n_seeds=n_seeds)
+    if len(lv) == 1:
+        why = ["one preload level: no rise or plateau can be read"]
+        return Reading(P, "not reached", x0, 1, nan, nan, x0, y0, nan, nan, 1, 0, top_lo,
+                       top_hi, why, list(why), **base)
+    if s == 0:
+        plateau_state = "no rise"
+        notes.append(f"F~_A does not rise with preload over F~_P = {x0:.3g} .. "
+                     f"{lv.F_P[top]:.3g} (within the seed scatter)")
+    elif members.size >= 2:
+        plateau_state = "reached"
+    else:
+        plateau_state = "not reached"
+        notes.append(f"plateau not reached: F~_A still rises from {lv.F_A[top - 1]:.3g} at "
+                     f"F~_P = {lv.F_P[top - 1]:.3g} to {lv.F_A[top]:.3g} at {lv.F_P[top]:.3g}; "
+                     "the plateau is a lower bound and c is provisional")
+        c_notes.append(notes[-1])
+    # the smallest c the scatter can tell from 0: a rise of one tolerance over the preloads run
+    rtol = PATH_RTOL if n_seeds < 2 else NUMERIC_RTOL
+    spread = float(np.nanmax(lv.hi - lv.lo)) if n_seeds > 1 else 0.0
+    span = float(lv.F_P[-1] - x0)
+    c_detect = max(spread, rtol * abs(P)) / span if span > 0 else nan
+    few = FEW_PILLARS * floor
+    asked = np.asarray(preload, dtype=float)
+    asked = float(np.min(asked[np.isfinite(asked)])) if np.isfinite(asked).any() else nan
+    overshot = asked > 0 and x0 > OVERSHOOT * asked         # merged levels keep the larger
+    if math.isfinite(floor) and P <= few:
+        notes.append(f"adhesion lost: plateau F~_A = {P:.3g}, within {FEW_PILLARS:g} pillars' "
+                     f"pull-off ({few:.3g}; one pillar: {floor:.3g})")
+        return Reading(P, plateau_state, x0, int(members.size), 0.0, 0.0, x0, y0, nan, c_detect,
+                       len(lv), 0, top_lo, top_hi, notes, list(notes), state=LOST, c_half=0.0,
+                       c_chord=0.0, **base)
+    y_half = 0.5 * P
+    if y0 >= y_half or s == 0:
+        c_lower = y0 / x0 if x0 > 0 else nan
+        if s == 0 and not math.isfinite(floor):
+            state = UNDETERMINED
+            c_notes.append("F~_A does not rise and no pillar floor was given: adhesion lost "
+                           "and a rise below the smallest preload cannot be told apart")
+        else:
+            state = UNRESOLVED
+            where = (f"the first contact overshot the smallest preload asked for "
+                     f"({asked:.3g}) to F~_P = {x0:.3g}: the brush saturates "
+                     "at first contact, no smaller preload is reachable on this scene"
+                     if overshot else
+                     f"preloads at or below {0.1 * x0:.3g} (a tenth of the smallest reached) "
+                     "would resolve it")
+            c_notes.append(f"rise not resolved: F~_A = {y0:.3g} at the smallest preload "
+                           f"F~_P = {x0:.3g} is already {y0 / P:.0%} of the plateau {P:.3g}; "
+                           f"c >= {c_lower:.3g} (a lower bound, out of the fit); {where}")
+        c0 = _c0(lv, P)
+        return Reading(P, plateau_state, float(lv.F_P[s]), int(members.size), nan, c0, x0, y0,
+                       nan, c_detect, len(lv), int(s), top_lo, top_hi, notes, c_notes,
+                       state=state, c_lower=c_lower,
+                       resolve_below=nan if overshot else 0.1 * x0, **base)
+    # the rise is resolved: the seed-mean curve crosses P/2 above the smallest level
+    xh, ih = _crossing(lv, y_half, log=False)
+    nf = _floor_levels(lv, s)
+    few_ = few if math.isfinite(few) else 0.0
+    stage = [i for i in range(nf, ih)
+             if few_ < lv.F_A[i] <= y_half and lv.F_P[i] > 0]
+    c_half = y_half / xh if math.isfinite(xh) and xh > 0 else nan
+    if stage:
+        xs, ys = lv.F_P[stage], lv.F_A[stage]
+        c = float(np.sum(xs * ys) / np.sum(xs * xs))
+    else:
+        c = c_half
+    yc = y0 + half * (P - y0)
+    xc, _ = _crossing(lv, yc)
+    c_chord = (yc - y0) / (xc - x0) if math.isfinite(xc) and xc > x0 else nan
+    c0 = _c0(lv, P)
     if not math.isfinite(c0):
         c_notes.append("c0 undefined: F~_A or F~_P <= 0 at the smallest preload")
     elif lv.F_A[0] >= FLOOR_RATIO * lv.F_A[1]:
         c_notes.append("c0 read on the first-contact floor (F~_A hardly changes between the two "
-                     "smallest preloads): a ratio F~_A/F~_P that grows as the preload shrinks")
-    if s < 2:
-        c_notes.append(f"the rise is sampled by {s + 1} level(s) below the plateau: c is a chord "
-                     "between them, coarse")
-    return Reading(P, state, float(lv.F_P[s]), int(members.size), float(c), c0, x0, y0, xh,
-                   c_detect, len(lv), int(s), top_lo, top_hi, notes, c_notes)
+                       "smallest preloads): a ratio F~_A/F~_P that grows as the preload shrinks")
+    if not stage:
+        c_notes.append("no level on the linear stage below half the plateau: c is c_half, the "
+                       "secant to the interpolated half point, coarse (preloads between "
+                       f"{lv.F_P[max(ih - 1, 0)]:.3g} and {lv.F_P[min(ih, len(lv) - 1)]:.3g} "
+                       "would resolve it)")
+    return Reading(P, plateau_state, float(lv.F_P[s]), int(members.size), c, c0, x0, y0, xh,
+                   c_detect, len(lv), int(s), top_lo, top_hi, notes, c_notes, state=RESOLVED,
+                   c_half=float(c_half), c_chord=float(c_chord), n_stage=len(stage), **base)
 
 
 def path_plateau_reached(F_P, F_A, rtol: float = PATH_RTOL) -> bool:

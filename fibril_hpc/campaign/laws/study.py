@@ -5,9 +5,19 @@
 The bootstrap resamples seed labels *jointly* over the sigma~ of a k~ (a label picked twice
 counts as two seeds), redoes every reading on the resample, then fits alpha and beta to the
 resampled c with the weights of the full data: the intervals of the plateau, c, c0, alpha,
-beta and sigma~_c come from the same replicates. Where the alpha/beta fit is poor (its residuals
+beta and sigma~_c come from the same replicates, each widened about its value for the small
+number of seeds (:func:`.intervals.expanded`). Where the alpha/beta fit is poor (its residuals
 exceed the seed scatter) the interval of alpha and beta is widened to hold the fit's own
 Student-t interval (covariance scaled by chi^2/dof) as well.
+
+**What the page may claim** (:func:`judge`). A k~ is *fitted* only when the fit exists, is not
+poor and alpha's seed interval excludes 0; a poor fit is shown for orientation and named so; an
+alpha consistent with 0 (interval reaching 0 or below) makes the law undefined for that k~.
+sigma~_c = alpha/beta is *measured by the law* only when the k~ is fitted and beta's interval
+excludes 0; with beta consistent with 0 it is undefined (the data do not show c reaching 0).
+Where it falls inside the model-free bracket (the largest sigma~ with c > 0, the smallest with
+c = 0) the line's zero is pinned by the c = 0 point: the bracket is the measurement, and the
+fitted value only says where inside it the line crosses.
 """
 
 from __future__ import annotations
@@ -18,8 +28,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .alphabeta import ABFit, fit_alpha_beta, t_interval
-from .intervals import percentile_interval, replicate_sd, seed_replicates
-from .reading import HALF, Reading, read_group
+from .intervals import expanded, percentile_interval, replicate_sd, seed_replicates
+from .reading import HALF, LOST, UNDETERMINED, UNRESOLVED, Reading, read_group
 
 N_BOOT = 400
 NAN2 = (math.nan, math.nan)
@@ -53,6 +63,12 @@ class KStudy:
     sigma_c_ci: tuple = NAN2
     ci_method: str = ""
     notes: list = field(default_factory=list)
+    #: :func:`judge`'s verdicts: "fitted", "poor fit" or "undefined", with the reason
+    status: str = "undefined"
+    status_why: str = ""
+    #: "measured", "pinned" (inside the data bracket) or "undefined", with the reason
+    sigma_c_status: str = "undefined"
+    sigma_c_why: str = ""
 
 
 def _resample(pts, labels):
@@ -67,12 +83,18 @@ def _resample(pts, labels):
 def _why_out(sigma: float, r: Reading) -> str:
     if sigma <= 0:
         return "sigma~ = 0 (the smooth limit) has no place in a law in 1/sigma~"
-    if r.plateau_state == "not reached":
-        return "plateau not reached: c is provisional"
     if r.plateau_state == "no data":
         return "no finite points"
+    if r.state == UNRESOLVED:
+        return f"rise not resolved: c >= {r.c_lower:.3g} is a lower bound"
+    if r.state == UNDETERMINED:
+        return "state undetermined (too few levels, or no pillar floor to tell a loss)"
+    if r.state == LOST:
+        return ""
+    if r.plateau_state == "not reached":
+        return "plateau not reached: c is provisional"
     if not math.isfinite(r.c):
-        return "c could not be read (the rise never reaches its half)"
+        return "c could not be read (the rise never reaches half the plateau)"
     return ""
 
 
@@ -85,14 +107,15 @@ def _ab_points(groups, cs=None):
 
 
 def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 0,
-            half: float = HALF) -> KStudy:
+            half: float = HALF, floor: float = math.nan) -> KStudy:
     """``points``: {sigma~: (seed, preload, F_P, F_A) arrays of done jobs} of one k~; ``half``:
-    the fraction of the rise that defines c (:func:`.reading.read_group`)."""
+    the fraction of the rise of ``c_chord``; ``floor``: one pillar's pull-off
+    (:func:`.reading.read_group`)."""
     pts = {float(s): tuple(np.asarray(a) for a in p) for s, p in sorted(points.items())}
     sigmas = list(pts)
     groups = []
     for s in sigmas:
-        r = read_group(*pts[s], half=half)
+        r = read_group(*pts[s], half=half, floor=floor)
         why = _why_out(s, r)
         groups.append(GroupResult(float(k_tilde), s, r, int(np.unique(pts[s][0]).size),
                                   in_fit=not why, why_out=why))
@@ -102,7 +125,7 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     def stat(picked):
         out = []
         for s in sigmas:
-            r = read_group(*_resample(pts[s], picked), half=half)
+            r = read_group(*_resample(pts[s], picked), half=half, floor=floor)
             out += [r.plateau, r.c, r.c0]
         return np.array(out)
 
@@ -110,9 +133,10 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     notes = []
     if reps is not None:
         for i, g in enumerate(groups):
-            g.plateau_ci = percentile_interval(reps[3 * i])
-            g.c_ci = percentile_interval(reps[3 * i + 1])
-            g.c0_ci = percentile_interval(reps[3 * i + 2])
+            r, n_s = g.reading, g.n_seeds
+            g.plateau_ci = expanded(r.plateau, percentile_interval(reps[3 * i]), n_s)
+            g.c_ci = expanded(r.c, percentile_interval(reps[3 * i + 1]), n_s)
+            g.c0_ci = expanded(r.c0, percentile_interval(reps[3 * i + 2]), n_s)
             g.c_sd = replicate_sd(reps[3 * i + 1])
         method = f"bootstrap over {len(labels)} seeds ({reps.shape[1]} resamples)"
     else:
@@ -121,13 +145,13 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     ab = fit_alpha_beta(*_ab_points(groups))
     st = KStudy(float(k_tilde), groups, ab, ci_method=method, notes=notes)
     if not ab.ok:
-        return st
+        return judge(st)
     dof = ab.n_points - 2
     cov_a, cov_b = t_interval(ab.alpha, ab.alpha_se, dof), t_interval(ab.beta, ab.beta_se, dof)
     if reps is None:
         st.alpha_ci, st.beta_ci = cov_a, cov_b
         st.ci_method += "; alpha, beta: the fit's covariance (Student t)"
-        return st
+        return judge(st)
     fit_idx = [i for i, g in enumerate(groups) if g.in_fit]
     s, _, sd = _ab_points(groups)
     ab_reps = []
@@ -138,8 +162,10 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
               else (math.inf if f.ok and f.beta <= 0 else math.nan))
         ab_reps.append((f.alpha, f.beta, sc))
     ab_reps = np.array(ab_reps).T
-    st.alpha_ci, st.beta_ci = percentile_interval(ab_reps[0]), percentile_interval(ab_reps[1])
-    st.sigma_c_ci = percentile_interval(ab_reps[2])
+    n_l = len(labels)
+    st.alpha_ci = expanded(ab.alpha, percentile_interval(ab_reps[0]), n_l)
+    st.beta_ci = expanded(ab.beta, percentile_interval(ab_reps[1]), n_l)
+    st.sigma_c_ci = expanded(ab.sigma_c, percentile_interval(ab_reps[2]), n_l)
     if ab.poor:
         st.alpha_ci = (min(st.alpha_ci[0], cov_a[0]), max(st.alpha_ci[1], cov_a[1]))
         st.beta_ci = (min(st.beta_ci[0], cov_b[0]), max(st.beta_ci[1], cov_b[1]))
@@ -147,13 +173,61 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     unb = float(np.mean(np.isinf(ab_reps[2])))
     if unb > 0:
         notes.append(f"beta <= 0 in {100 * unb:.0f} % of the resamples: sigma~_c unbounded above")
+    return judge(st)
+
+
+def _consistent_with_zero(value: float, ci: tuple) -> bool:
+    """The value is at or below 0, or its interval reaches 0 (an undefined interval says
+    nothing: only the value is judged)."""
+    if not math.isfinite(value) or value <= 0:
+        return True
+    return math.isfinite(ci[0]) and ci[0] <= 0
+
+
+def judge(st: KStudy) -> KStudy:
+    """Set what the page may claim of a k~ (the module text): ``status`` and ``sigma_c_status``
+    with their reasons."""
+    ab = st.ab
+    lo, hi = ab.bracket
+    br = (f"the data bracket sigma~_c in ({lo:g}, {hi:g}]" if math.isfinite(lo) and math.isfinite(hi)
+          else (f"c > 0 up to the largest sigma~ run ({lo:g}): sigma~_c > {lo:g}"
+                if math.isfinite(lo) else "no sigma~ with c > 0"))
+    if not ab.ok:
+        st.status, st.status_why = "undefined", (ab.notes[0] if ab.notes else "no fit")
+    elif _consistent_with_zero(ab.alpha, st.alpha_ci):
+        st.status = "undefined"
+        st.status_why = (f"alpha = {ab.alpha:.3g} [{st.alpha_ci[0]:.3g}, {st.alpha_ci[1]:.3g}] "
+                         "is consistent with 0: c does not fall as 1/sigma~ within the seed "
+                         "scatter")
+    elif ab.poor:
+        st.status = "poor fit"
+        st.status_why = (f"chi^2/dof = {ab.chi2_red:.3g}: c = alpha/sigma~ - beta does not "
+                         "describe c within the seed scatter; alpha and beta for orientation only")
+    else:
+        st.status, st.status_why = "fitted", ""
+    if st.status != "fitted":
+        st.sigma_c_status = "undefined"
+        st.sigma_c_why = f"the law is {st.status} for this k~; {br}"
+    elif _consistent_with_zero(ab.beta, st.beta_ci) or not math.isfinite(ab.sigma_c):
+        st.sigma_c_status = "undefined"
+        st.sigma_c_why = (f"beta = {ab.beta:.3g} [{st.beta_ci[0]:.3g}, {st.beta_ci[1]:.3g}] is "
+                          f"consistent with 0: the law does not show c reaching 0; {br}")
+    elif math.isfinite(lo) and math.isfinite(hi) and lo <= ab.sigma_c <= hi * 1.05:
+        st.sigma_c_status = "pinned"
+        st.sigma_c_why = (f"alpha/beta = {ab.sigma_c:.3g} lies in {br}: the line's zero is set "
+                          f"by the c = 0 point at sigma~ = {hi:g}; the bracket is the measurement")
+    else:
+        st.sigma_c_status, st.sigma_c_why = "measured", ""
     return st
 
 
-def study(points: dict, n_boot: int = N_BOOT, rng_seed: int = 0, half: float = HALF) -> dict:
+def study(points: dict, n_boot: int = N_BOOT, rng_seed: int = 0, half: float = HALF,
+          floor: float = math.nan) -> dict:
     """``points``: {(k~, sigma~): (seed, preload, F_P, F_A)} -> {k~: :class:`KStudy`}, k~
-    descending (stiff first, as the paper's figures)."""
+    descending (stiff first, as the paper's figures); ``floor``: one pillar's pull-off
+    (:func:`.reading.pillar_floor`)."""
     by_k: dict = {}
     for (k, s), p in points.items():
         by_k.setdefault(float(k), {})[float(s)] = p
-    return {k: study_k(k, by_k[k], n_boot, rng_seed, half) for k in sorted(by_k, reverse=True)}
+    return {k: study_k(k, by_k[k], n_boot, rng_seed, half, floor)
+            for k in sorted(by_k, reverse=True)}

@@ -1,0 +1,104 @@
+"""Synthetic campaigns of known truth, for testing the report's readings (not our own runs).
+
+A group (k~, sigma~) has a true state, plateau P, adhesion coefficient c (eq. 15: F~_A = c F~_P
+on the linear stage) and one pillar's pull-off ``floor``; each seed scatters c and P by
+independent relative normal deviates. Curve shapes:
+
+* ``sharp``: F~_A = min(max(floor, c F~_P), P) - a linear stage with a clean bend;
+* ``smooth``: F~_A = max(floor, P tanh(c F~_P / P)) - initial slope c, bending early;
+* ``instant``: the brush saturates at first contact: preloads below ``first_contact`` are reached
+  there (the overshoot), F~_A = P at every preload;
+* ``lost``: F~_A at the floor (one pillar, per-seed scatter) at every preload.
+
+c(sigma~) may follow the paper's law max(alpha/sigma~ - beta, 0) (groups with c = 0 are lost).
+Sampling: a fixed list of preloads, optionally with per-seed extra preloads (mixed seed sets per
+level, as ``F_P: auto`` makes them) and per-seed plateau rounds (x 4 above the top).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from fibril_hpc.campaign.laws import reading
+
+FLOOR = reading.pillar_floor(18, 0.16)
+START = (0.001, 0.004, 0.016, 0.064, 0.25, 1.0, 4.0)      # F_P: auto's first round
+
+
+@dataclass
+class Truth:
+    """What a synthetic group is."""
+
+    shape: str                  # sharp | smooth | instant | lost
+    c: float                    # population c (NaN for instant: unbounded; 0 for lost)
+    plateau: float
+    floor: float = FLOOR
+    first_contact: float = 0.0  # the smallest F~_P the path can reach
+    c_sd: float = 0.1           # relative seed scatter of c
+    P_sd: float = 0.03          # relative seed scatter of the plateau
+
+    def state(self, smallest_preload: float) -> str:
+        """The state a correct reading reports for preloads from ``smallest_preload``."""
+        if self.shape == "lost":
+            return reading.LOST
+        if self.shape == "instant":
+            return reading.UNRESOLVED
+        x0 = max(smallest_preload, self.first_contact)
+        return reading.RESOLVED if self.fa(x0, self.c, self.plateau) < 0.5 * self.plateau \
+            else reading.UNRESOLVED
+
+    def fa(self, x, c, P, floor=None):
+        """F~_A of one seed (its c, P) at reached preload x."""
+        f = self.floor if floor is None else floor
+        if self.shape == "sharp":
+            return min(max(f, c * x), P)
+        if self.shape == "smooth":
+            return max(f, P * math.tanh(c * x / P))
+        if self.shape == "instant":
+            return P
+        return f
+
+
+def group(truth: Truth, seeds: int, preloads=START, extra: int = 0, rounds: int = 0,
+          rng=None):
+    """(seed, preload, F_P, F_A) arrays of one group: every seed at ``preloads``, plus ``extra``
+    random preloads of its own (log-uniform inside the range) and up to ``rounds`` plateau rounds
+    (x 4 above the largest preload) for a random subset of seeds."""
+    rng = np.random.default_rng(rng)
+    rows = []
+    for s in range(seeds):
+        c = truth.c * (1 + truth.c_sd * rng.standard_normal()) if truth.c > 0 else truth.c
+        P = truth.plateau * (1 + truth.P_sd * rng.standard_normal())
+        fl = truth.floor * (1 + 0.02 * rng.standard_normal())
+        mine = list(preloads)
+        if extra:
+            lo, hi = math.log(min(preloads)), math.log(max(preloads))
+            mine += [float(np.round(math.exp(v), 9)) for v in rng.uniform(lo, hi, extra)]
+        if rounds and rng.random() < 0.5:
+            top = max(mine)
+            mine += [top * 4 ** (i + 1) for i in range(int(rng.integers(1, rounds + 1)))]
+        for p in sorted(set(mine)):
+            x = max(p, truth.first_contact)
+            rows.append((s, p, x, truth.fa(x, c, P, fl)))
+    return tuple(np.array(col) for col in zip(*rows))
+
+
+def law_campaign(alpha, beta, sigmas, seeds, shape="sharp", plateau=1.5, preloads=None,
+                 rng=None, c_sd=0.1):
+    """{sigma~: points} of one k~ whose c follows max(alpha/sigma~ - beta, 0): groups with
+    c = 0 lose adhesion; preloads default to a log grid fine enough to resolve every rise."""
+    rng = np.random.default_rng(rng)
+    out, truths = {}, {}
+    for s in sigmas:
+        c = max(alpha / s - beta, 0.0)
+        t = Truth("lost" if c == 0 else shape, c, FLOOR if c == 0 else plateau, c_sd=c_sd)
+        pre = preloads
+        if pre is None:     # from well below the rise to well above the plateau
+            top = 4 * plateau / c if c > 0 else 4.0
+            pre = tuple(float(v) for v in np.geomspace(top / 4000, top, 13).round(12))
+        out[s] = group(t, seeds, pre, rng=rng)
+        truths[s] = t
+    return out, truths
