@@ -443,8 +443,8 @@ def test_9_fibril_run_never_clobbers_a_foreign_file(tmp_path, capsys):
     assert theirs.read_bytes() == b"not ours" and png.read_bytes().endswith(b"figure")
     code, _, err = fibril_run([scene, "--out", theirs, "--plot", png, "--force"], capsys)
     assert code == 0, err
-    code, _, err = fibril_run([scene, "--out", theirs, "--plot", png], capsys)   # ours now
-    assert code == 0, err
+    code, _, err = fibril_run([scene, "--out", theirs, "--plot", png], capsys)   # ours now:
+    assert code == 2 and "--force" in one_line(err)          # still replaced only when asked
     assert not [f for f in os.listdir(tmp_path) if ".part" in f or f.startswith(".fibril-")]
 
 
