@@ -63,6 +63,11 @@ class DamagedFileError(StoreError):
     """A file's HDF5 structure cannot be read (one line; ``fibril-campaign salvage`` helps)."""
 
 
+class UnknownLayoutError(StoreError):
+    """A file written in a layout version (``format_version``) newer than this code knows: every
+    reader refuses it in one line (reading it as the old layout could misread every number)."""
+
+
 class DiskFull(StoreError):
     """No space (ENOSPC) or quota (EDQUOT) left while writing: an interruption, not a crash.
 

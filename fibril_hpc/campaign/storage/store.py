@@ -56,6 +56,7 @@ from ..plan.keys import KEY_EXCLUDED_SOLVER
 from . import integrity
 from . import journal as _journal
 from .h5read import (
+    FORMAT_VERSION,
     PROGRAM,
     REFS,
     H5Read,
@@ -70,7 +71,6 @@ from .record import BRANCHES, CURVE_KEYS, OPTIONAL_CURVE_KEYS, SCALAR_KEYS
 
 log = logging.getLogger(__name__)
 
-FORMAT_VERSION = 1
 KEY_DEFINITION = ("first 16 hex digits of SHA-256 of the job's single-preload scene as canonical "
                   "JSON (sorted keys) of k_tilde, sigma_tilde, seed, the preload and every field "
                   "that differs from its default, without "
@@ -284,4 +284,4 @@ def write_merged(path: str, root_attrs: dict, records, unsigned=()) -> None:
 __all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",
            "read_snapshot", "checkpoint", "root_attrs_for", "write_merged", "write_record",
            "clean_temporaries", "newer", "accepted_hashes", "H5Read",
-           "Snapshot", "PROGRAM", "REFS"]
+           "Snapshot", "PROGRAM", "REFS", "FORMAT_VERSION"]
