@@ -170,7 +170,8 @@ def read_records(path: str, curves: bool = True) -> tuple[dict, dict, int]:
 
 def write_record(jobs, rec: dict, sign: bool = True) -> None:
     """Write one record as ``jobs/<key>``, replacing an older one: sealed with its checksum
-    when ``sign`` (a record this code computed or verified), else as it is (an unchecked
+    when ``sign`` (a record this code computed, or whose own checksum verifies: one that
+    carries a checksum that does not verify is refused, StoreError), else as it is (an unchecked
     record copied by ``merge``/``salvage`` stays unchecked: nothing here vouches for it)."""
     key = rec["key"]
     if key in jobs:
@@ -182,6 +183,8 @@ def write_record(jobs, rec: dict, sign: bool = True) -> None:
             k: np.asarray(c[k]) for k in CURVE_KEYS + OPTIONAL_CURVE_KEYS
             if k in CURVE_KEYS or c.get(k) is not None}
     if sign:
+        if rec.get(integrity.ATTR) is not None and integrity.check(rec) != integrity.OK:
+            raise StoreError(f"record {key}: its checksum does not verify; never re-signed")
         stored = integrity.seal(stored)
     elif "checksum" in rec:
         stored["checksum"] = rec["checksum"]

@@ -15,8 +15,8 @@ import time
 
 from ...errors import FULL_ERRNOS, ConfigError, DiskFull, StoreError
 from ...io.files import check_writable
+from . import integrity, store
 from . import journal as _journal
-from . import store
 from .record import layout_problem
 
 log = logging.getLogger(__name__)
@@ -183,6 +183,7 @@ class CampaignWriter:
         """Journal ``records`` (durably) and checkpoint when due. A full disk raises
         :class:`~fibril_hpc.errors.DiskFull` naming the journal."""
         for rec in records:
+            rec = integrity.seal(rec)      # computed here: the frame carries its checksum
             try:
                 self.journal.append(rec)
             except OSError as exc:
