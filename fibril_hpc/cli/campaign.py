@@ -19,7 +19,7 @@ from ..errors import (
     EXIT_USAGE,
     ConfigError,
     DamagedFileError,
-    DiskFull,
+    Interruption,
     StoreError,
     UnknownLayoutError,
 )
@@ -144,7 +144,7 @@ def main(argv=None) -> int:
                 "salvage": cmd_salvage, "example": cmd_example}[args.cmd](args)
     except ConfigError as exc:
         return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
-    except DiskFull as exc:            # an interruption: rerun once there is room
+    except Interruption as exc:        # a full disk: rerun once there is room
         return error(PROG, exc, EXIT_INTERRUPTED) if launcher_rank() == 0 else EXIT_INTERRUPTED
     except (DamagedFileError, UnknownLayoutError) as exc:
         return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
@@ -403,10 +403,8 @@ def cmd_salvage(args) -> int:
     from ..campaign.storage.guard import check_new
     from ..campaign.storage.verify import salvage_file
 
-    try:
-        _existing(args.file, "file")   # not a campaign file: one line, exit 2
-    except DamagedFileError:
-        pass                           # a damaged one is what salvage is for
+    if not os.path.isfile(args.file):  # a damaged, cut or overwritten one is what salvage is
+        raise ConfigError("file", args.file, "an existing campaign file")     # for
     check_writable(args.output, "--output")
     check_new(args.output, "--output")
     n = salvage_file(args.file, args.output, keep_unchecked=args.keep_unchecked)

@@ -18,7 +18,7 @@ import h5py
 from ...errors import DamagedFileError, StoreError, UnknownLayoutError
 from ...io import h5check, isolate
 from . import integrity
-from .grids import GridIndex
+from .grids import GridIndex, grid_matches
 from .record import BRANCHES, CURVE_KEYS, CURVE_KINDS, OPTIONAL_CURVE_KEYS, layout_problem
 
 log = logging.getLogger(__name__)
@@ -78,6 +78,12 @@ def _read_root(path: str) -> dict:
         raise StoreError(f"{path} is not a fibril-hpc campaign file")
     check_layout_version(attrs, path)
     return attrs
+
+
+def root_whole(root: dict) -> bool:
+    """Whether root attributes read from a file can be trusted as they are: they say it is a
+    campaign file, and its grid rebuilds to its campaign hash."""
+    return root.get("program") == PROGRAM and grid_matches(root)
 
 
 def _is_hdf5(path: str) -> bool:
@@ -169,7 +175,9 @@ def _read_h5_checked(path: str, curves: bool, tolerant: bool) -> H5Read:
         if out.root.get("program") != PROGRAM and not tolerant:
             raise StoreError(f"{path} is not a fibril-hpc campaign file")
         check_layout_version(out.root, path)
-        out.index = GridIndex.of_root(out.root)
+        # salvage: a damaged root (a flipped byte) must not make the records foreign; they
+        # then belong by their own stored scene, and still only when their checksum verifies
+        out.index = GridIndex.of_root(out.root, trusted=not tolerant or root_whole(out.root))
         for k in keys:
             try:
                 rec = _read_group(_open_job(jobs, k))
@@ -308,6 +316,6 @@ def read_h5_records(path: str, curves: bool = True) -> tuple[dict, dict]:
     return got.root, got.records
 
 
-__all__ = ["PROGRAM", "FORMAT_VERSION", "REFS", "check_layout_version", "H5Read", "damaged_error",
-           "read_root",
+__all__ = ["PROGRAM", "FORMAT_VERSION", "REFS", "check_layout_version", "root_whole", "H5Read",
+           "damaged_error", "read_root",
            "read_h5_checked", "read_h5_salvage", "read_h5_records", "warn_corrupt"]

@@ -65,6 +65,7 @@ from .h5read import (
     read_h5_records,
     read_h5_salvage,
     read_root,
+    root_whole,
     warn_corrupt,
 )
 from .record import BRANCHES, CURVE_KEYS, OPTIONAL_CURVE_KEYS, SCALAR_KEYS
@@ -287,4 +288,4 @@ def write_merged(path: str, root_attrs: dict, records, unsigned=()) -> None:
 __all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",
            "read_snapshot", "checkpoint", "root_attrs_for", "write_merged", "write_record",
            "clean_temporaries", "newer", "accepted_hashes", "H5Read",
-           "Snapshot", "PROGRAM", "REFS", "FORMAT_VERSION"]
+           "Snapshot", "PROGRAM", "REFS", "FORMAT_VERSION", "root_whole"]
