@@ -63,7 +63,40 @@ class DamagedFileError(StoreError):
     """A file's HDF5 structure cannot be read (one line; ``fibril-campaign salvage`` helps)."""
 
 
-class DiskFull(StoreError):
+class UnknownLayoutError(StoreError):
+    """A file written in a layout version (``format_version``) newer than this code knows: every
+    reader refuses it in one line (reading it as the old layout could misread every number)."""
+
+
+class Interruption(StoreError):
+    """A campaign run cannot go on writing, but nothing finished is lost: every rank stops and
+    exits with :data:`EXIT_INTERRUPTED` (75) after one line saying what to do."""
+
+
+class PublishedFileChanged(Interruption):
+    """The published campaign file changed under its writer (cut short, emptied or replaced by
+    another program): nothing more is published into it; every record finished since the last
+    checkpoint stays in the journal, and ``salvage`` recovers them with what still reads.
+
+    Parameters
+    ----------
+    path, journal : str
+        The campaign file and its journal.
+    detail : str
+        What changed (sizes, or why it no longer reads).
+    """
+
+    def __init__(self, path, journal, detail=""):
+        self.path = path
+        self.journal = journal
+        super().__init__(
+            f"{path} changed under this campaign ({detail}; cut short, emptied or replaced by "
+            f"another program): nothing more was written to it, and every record finished since "
+            f"its last checkpoint is in {journal}; recover with `fibril-campaign salvage {path} "
+            "-o NEW.h5` (it takes the journal too), then rerun with --output NEW.h5")
+
+
+class DiskFull(Interruption):
     """No space (ENOSPC) or quota (EDQUOT) left while writing: an interruption, not a crash.
 
     Parameters

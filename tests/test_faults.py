@@ -196,7 +196,9 @@ def test_4_damaged_frame_keeps_later_frames_through_resume(finished, tmp_path):
     grid = write_grid(tmp_path)
     spec = load_spec(grid)
     assert run_serial(spec, progress=False, max_tasks=2) == 75         # 4 jobs in the file
-    full = {j["key"]: j for j in load_campaign(str(finished / "tiny.h5")).jobs}
+    from fibril_hpc.campaign.storage.store import read_h5_records
+
+    full = read_h5_records(str(finished / "tiny.h5"))[1]     # as stored: their checksums verify
     have = {j["key"] for j in load_campaign(spec.output, curves=False).jobs}
     extra = [dict(full[k], type="job") for k in sorted(full) if k not in have][:4]
     frames = [J.encode(r) for r in extra]
@@ -443,8 +445,8 @@ def test_9_fibril_run_never_clobbers_a_foreign_file(tmp_path, capsys):
     assert theirs.read_bytes() == b"not ours" and png.read_bytes().endswith(b"figure")
     code, _, err = fibril_run([scene, "--out", theirs, "--plot", png, "--force"], capsys)
     assert code == 0, err
-    code, _, err = fibril_run([scene, "--out", theirs, "--plot", png], capsys)   # ours now
-    assert code == 0, err
+    code, _, err = fibril_run([scene, "--out", theirs, "--plot", png], capsys)   # ours now:
+    assert code == 2 and "--force" in one_line(err)          # still replaced only when asked
     assert not [f for f in os.listdir(tmp_path) if ".part" in f or f.startswith(".fibril-")]
 
 

@@ -17,6 +17,7 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
+from fibril_hpc.campaign.storage import integrity
 from fibril_hpc.campaign.storage import journal as J
 
 HASH = "a" * 64
@@ -28,9 +29,10 @@ def record(i: int, campaign=HASH, n: int = 5) -> dict:
     curve = {"d_tilde": rng.standard_normal(n), "F_tilde": rng.standard_normal(n),
              "contact_fraction": rng.random(n),
              "n_pillars_in_contact": rng.integers(0, 9, n)}
-    return {"type": "job", "key": f"{i:016x}", "record_id": f"r{i}", "campaign_hash": campaign,
-            "status": "done", "message": "", "F_A": float(rng.random()), "F_P": float("nan"),
-            "events": int(i), "loading": curve, "unloading": None}
+    return integrity.seal({
+        "type": "job", "key": f"{i:016x}", "record_id": f"r{i}", "campaign_hash": campaign,
+        "status": "done", "message": "", "F_A": float(rng.random()), "F_P": float("nan"),
+        "events": int(i), "loading": curve, "unloading": None})
 
 
 def slurp(path) -> bytes:

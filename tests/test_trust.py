@@ -17,6 +17,7 @@ import pytest
 
 from campaign_helpers import env, run, write_grid
 from fibril_hpc import load_campaign
+from fibril_hpc.campaign.storage import integrity
 from fibril_hpc.campaign.storage import journal as J
 from fibril_hpc.campaign import load_spec
 from fibril_hpc.campaign.run.runner import run_serial
@@ -116,7 +117,7 @@ def test_2_journal_frame_with_a_key_off_the_grid_is_foreign(finished, tmp_path, 
                record_id="stray", F_A=456.123456789)
     rec.pop("k_machine")
     with open(J.journal_path(out), "wb") as fh:
-        fh.write(J.encode(rec))
+        fh.write(J.encode(integrity.seal(rec)))        # its checksum verifies: only the key is off
     code, o, e = cli(["status", out], capsys, caplog)
     assert code == 0 and "16 done, 0 failed, 0 pending" in o and "no job of the grid" in e
     assert 456.123456789 not in [j["F_A"] for j in load_campaign(out).jobs]
@@ -222,13 +223,15 @@ def test_5_merge_refuses_other_scenes_versions_and_conflicts(finished, tmp_path,
     v2 = copy_of(finished, tmp_path, "v2.h5")
     _set_root(v2, format_version=2)
     code, _, e = cli(["merge", a, v2, "-o", tmp_path / "m.h5"], capsys, caplog)
-    assert code == 1 and "layout version 2" in one_line(e)
+    assert code == 2 and "(format_version) 2 is not one" in one_line(e)   # every reader
     b = copy_of(finished, tmp_path, "b.h5")
     k = keys_of(b)[0]
     rec = next(j for j in load_campaign(b).jobs if j["key"] == k)
     fa = rec["F_A"]
     with h5py.File(b, "r+") as fh:           # another cluster's (valid, signed) record
-        write_record(fh["jobs"], dict(rec, F_A=42.0, record_id="elsewhere"))
+        other = dict(rec, F_A=42.0, record_id="elsewhere")
+        other.pop("checksum")                 # computed there: signed by its own writer
+        write_record(fh["jobs"], other)
     same = copy_of(finished, tmp_path, "same.h5")
     code, o, e = cli(["merge", a, same, "-o", tmp_path / "ok.h5"], capsys, caplog)
     assert code == 0 and "16 jobs" in o, e                      # equal numbers: no conflict
@@ -253,7 +256,9 @@ def test_6_hostile_campaign_files_are_one_line_or_named(finished, tmp_path, caps
     rec = next(j for j in load_campaign(out).jobs if j["key"] == k0)
     with h5py.File(out, "r+") as fh:
         jobs = fh["jobs"]
-        write_record(jobs, dict(rec, F_A="0.8"))        # a text where a number is due, signed
+        bad = dict(rec, F_A="0.8")
+        bad.pop("checksum")
+        write_record(jobs, bad)                          # a text where a number is due, signed
         jobs["loop"] = h5py.SoftLink("/jobs")            # a soft-link loop
         g = jobs.create_group("0123456789abcdef")        # a group without k_tilde
         g.attrs["key"] = "0123456789abcdef"

@@ -9,11 +9,13 @@ from .._version import __version__
 from ..accuracy import CASES, add_errors, markdown, plot, read_rows, run_case
 from ..accuracy.study import run_one
 from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError
-from ..io.files import check_output_folder
+from ..io.files import check_output_folder, write_text_atomically
 from ..io.results import software_versions
 from .common import Parser, add_version, error, memory_guard, pipe_safe
 
 PROG = "fibril-accuracy"
+#: the files written into --out
+OUTPUTS = ("accuracy.csv", "accuracy.md", "pareto.png")
 
 
 @pipe_safe
@@ -36,6 +38,9 @@ def main(argv=None) -> int:
     add_version(p)
     p.add_argument("--report-only", action="store_true",
                    help="rewrite the table and plot from DIR/accuracy.csv without running")
+    p.add_argument("--force", action="store_true",
+                   help="replace the accuracy.csv, accuracy.md and pareto.png already in DIR "
+                        "(without --resume or --report-only they are refused)")
     args = p.parse_args(argv)
     try:
         cases = (args.cases.split(",") if args.cases else
@@ -49,6 +54,11 @@ def main(argv=None) -> int:
         csv_path = os.path.join(args.out, "accuracy.csv")
         if args.report_only and not os.path.exists(csv_path):
             raise ConfigError("--report-only", csv_path, "an existing accuracy.csv in --out")
+        from ..campaign.storage.guard import check_output
+
+        for name in OUTPUTS:          # --resume / --report-only rewrite what they read
+            check_output(os.path.join(args.out, name), "--out",
+                         force=args.force or args.resume or args.report_only)
     except ConfigError as exc:
         return error(PROG, exc, EXIT_USAGE)
     os.makedirs(args.out, exist_ok=True)
@@ -59,8 +69,9 @@ def main(argv=None) -> int:
         for c in cases:
             run_case(c, args.quick, rows, csv_path, code=args.code)
     refs = add_errors(rows)
-    with open(os.path.join(args.out, "accuracy.md"), "w", encoding="utf-8") as fh:
-        fh.write(markdown(rows, refs, args.quick, software_versions()))
+    write_text_atomically(os.path.join(args.out, "accuracy.md"),
+                          markdown(rows, refs, args.quick, software_versions()),
+                          "writing the accuracy table")
     plot(rows, os.path.join(args.out, "pareto.png"))
     print(f"fibril-accuracy: {len(rows)} runs; wrote {args.out}/accuracy.csv, accuracy.md, "
           "pareto.png")

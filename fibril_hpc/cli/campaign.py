@@ -19,8 +19,9 @@ from ..errors import (
     EXIT_USAGE,
     ConfigError,
     DamagedFileError,
-    DiskFull,
+    Interruption,
     StoreError,
+    UnknownLayoutError,
 )
 from ..io.files import check_output_folder, check_writable
 from .common import OUT_OF_MEMORY, Parser, add_version, error, pipe_safe, setup_logging
@@ -28,6 +29,8 @@ from .common import OUT_OF_MEMORY, Parser, add_version, error, pipe_safe, setup_
 ON_CONFLICT = ("refuse", "first", "last")
 UNCHECKED_HELP = ("also take records without a checksum (nothing vouches for them: written "
                   "before checksums existed, or stripped of theirs)")
+FORCE_HELP = ("replace existing output files (never a campaign file, a journal or a file a "
+              "running campaign holds)")
 SUBCOMMANDS = ("run", "status", "report", "export", "merge", "verify", "salvage", "example")
 PROG = "fibril-campaign"
 
@@ -75,6 +78,9 @@ def _parser() -> Parser:
     rp.add_argument("--n-boot", type=int, default=400, metavar="N",
                     help="bootstrap resamples over seeds for the seed intervals (default 400)")
     rp.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
+    rp.add_argument("--force", action="store_true",
+                    help="write into an existing folder that holds other files than an earlier "
+                         "report (" + FORCE_HELP + ")")
     rp.add_argument("--where", action="append", default=[], metavar="NAME=VALUE",
                     help="a grid sweeping lab fields (tip, heights, ...; not n_side or k_machine, "
                          "which have their own reading): read the jobs with this swept value "
@@ -91,6 +97,7 @@ def _parser() -> Parser:
                         "first when the grid sweeps it) with the curves (needs xarray and "
                         "h5netcdf: the 'netcdf' extra)")
     e.add_argument("--include-unchecked", action="store_true", help=UNCHECKED_HELP)
+    e.add_argument("--force", action="store_true", help=FORCE_HELP)
     m = sub.add_parser("merge", help="merge campaign files into a new one")
     m.add_argument("files", nargs="+", help="campaign files (shards) of one grid")
     m.add_argument("-o", "--output", required=True, metavar="ALL.h5",
@@ -137,9 +144,9 @@ def main(argv=None) -> int:
                 "salvage": cmd_salvage, "example": cmd_example}[args.cmd](args)
     except ConfigError as exc:
         return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
-    except DiskFull as exc:            # an interruption: rerun once there is room
+    except Interruption as exc:        # a full disk: rerun once there is room
         return error(PROG, exc, EXIT_INTERRUPTED) if launcher_rank() == 0 else EXIT_INTERRUPTED
-    except DamagedFileError as exc:
+    except (DamagedFileError, UnknownLayoutError) as exc:
         return error(PROG, exc) if launcher_rank() == 0 else EXIT_USAGE
     except StoreError as exc:
         return error(PROG, exc, EXIT_FAILED) if launcher_rank() == 0 else EXIT_FAILED
@@ -155,7 +162,7 @@ def _existing(path, field) -> dict:
         raise ConfigError(field, path, "an existing campaign file")
     try:
         return read_root(path)         # a damaged file: DamagedFileError, one line, exit 2
-    except DamagedFileError:
+    except (DamagedFileError, UnknownLayoutError):
         raise
     except StoreError:
         raise ConfigError(field, path, "a fibril-hpc campaign HDF5 file") from None
@@ -291,15 +298,19 @@ def cmd_status(args) -> int:
 def cmd_export(args) -> int:
     """Write one row per job as CSV and/or Parquet."""
     from ..campaign.analysis import export as ex
+    from ..campaign.storage.guard import check_output
 
     _existing(args.file, "file")
     if not (args.csv or args.parquet or args.netcdf):
         raise ConfigError("export", "no output given", "--csv OUT.csv, --parquet OUT.parquet "
                           "and/or --netcdf OUT.nc")
-    for opt, path in (("--csv", args.csv), ("--parquet", args.parquet),
-                      ("--netcdf", args.netcdf)):
-        if path:
-            check_writable(path, opt)
+    outs = [(opt, path) for opt, path in (("--csv", args.csv), ("--parquet", args.parquet),
+                                          ("--netcdf", args.netcdf)) if path]
+    for opt, path in outs:
+        check_writable(path, opt)
+        check_output(path, opt, force=args.force)
+    if len({os.path.realpath(p) for _, p in outs}) < len(outs):
+        raise ConfigError(outs[-1][0], outs[-1][1], "a file other than the other outputs")
     if args.parquet and not ex.parquet_available():
         raise ConfigError("--parquet", args.parquet,
                           "a Parquet output with pandas and pyarrow installed "
@@ -323,13 +334,13 @@ def cmd_export(args) -> int:
 # ------------------------------------------------------------------------------------ merge
 def cmd_merge(args) -> int:
     """Merge campaign files into a new one."""
+    from ..campaign.storage.guard import check_new
     from ..campaign.storage.merge import merge_files
 
     for f in args.files:
         _existing(f, "files")
     check_writable(args.output, "--output")
-    if os.path.exists(args.output):
-        raise ConfigError("--output", args.output, "a new file name (it exists)")
+    check_new(args.output, "--output")
     if len(set(map(os.path.abspath, args.files))) != len(args.files):
         raise ConfigError("files", args.files, "distinct files")
     if args.prefer is not None and os.path.abspath(args.prefer) not in map(os.path.abspath,
@@ -363,6 +374,7 @@ def cmd_verify(args) -> int:
 def cmd_example(args) -> int:
     """``fibril-campaign example [NAME] [-o FILE]``: the shipped grids and Slurm scripts."""
     from .. import examples
+    from ..campaign.storage.guard import check_new
 
     if args.name is None:
         for name in examples.names():
@@ -378,8 +390,7 @@ def cmd_example(args) -> int:
     from ..io.files import check_writable, write_text_atomically
 
     check_writable(args.output, "--output")
-    if os.path.lexists(args.output):
-        raise ConfigError("--output", args.output, "a new file (it exists)")
+    check_new(args.output, "--output")
     write_text_atomically(args.output, text, "writing the example")
     if examples.is_script(name):
         os.chmod(args.output, 0o755)
@@ -389,15 +400,13 @@ def cmd_example(args) -> int:
 
 def cmd_salvage(args) -> int:
     """Copy every readable, verified record into a new file to resume from."""
+    from ..campaign.storage.guard import check_new
     from ..campaign.storage.verify import salvage_file
 
-    try:
-        _existing(args.file, "file")   # not a campaign file: one line, exit 2
-    except DamagedFileError:
-        pass                           # a damaged one is what salvage is for
+    if not os.path.isfile(args.file):  # a damaged, cut or overwritten one is what salvage is
+        raise ConfigError("file", args.file, "an existing campaign file")     # for
     check_writable(args.output, "--output")
-    if os.path.exists(args.output):
-        raise ConfigError("--output", args.output, "a new file name (it exists)")
+    check_new(args.output, "--output")
     n = salvage_file(args.file, args.output, keep_unchecked=args.keep_unchecked)
     print(f"{args.output}: {n['copied']} record(s) copied ({n['from_journal']} from the journal);"
           f" {n['corrupt']} corrupt, {n['foreign']} foreign and {n['unchecked_left_out']} "
@@ -410,10 +419,12 @@ def cmd_salvage(args) -> int:
 def cmd_report(args) -> int:
     """Write the plots and the alpha, beta, sigma_c table."""
     from ..campaign.analysis.report import write_report
+    from ..campaign.storage.guard import check_report_folder
     from ..campaign.analysis.variants import parse_where, swept_lab_fields
 
     root = _existing(args.file, "file")
     check_output_folder(args.out, "--out")
+    check_report_folder(args.out, "--out", force=args.force)
     if not 20 <= args.n_boot <= 100000:
         raise ConfigError("--n-boot", args.n_boot, "an integer in [20, 100000]")
     parse_where(args.where, swept_lab_fields(root), "--where")       # before writing anything

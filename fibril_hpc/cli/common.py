@@ -81,6 +81,7 @@ def pipe_safe(main):
 
     @functools.wraps(main)
     def guarded(*args, **kwargs):
+        _names_print_as_given()
         try:
             code = main(*args, **kwargs)
             sys.stdout.flush()              # a closed pipe shows here, not at interpreter exit
@@ -95,6 +96,18 @@ def pipe_safe(main):
             _stdout_to_devnull()
             return EXIT_OK
     return guarded
+
+
+def _names_print_as_given() -> None:
+    """A file name that is not UTF-8 (``bad<0xff>.h5``) reaches Python as lone surrogates; let
+    stdout print it back as the bytes the user gave (stderr already escapes them) instead of
+    a UnicodeEncodeError traceback."""
+    reconfigure = getattr(sys.stdout, "reconfigure", None)
+    if reconfigure is not None and getattr(sys.stdout, "errors", None) == "strict":
+        try:
+            reconfigure(errors="surrogateescape")
+        except (ValueError, OSError, TypeError):    # pragma: no cover - a closed or odd stream
+            pass
 
 
 def _stdout_to_devnull() -> None:

@@ -59,7 +59,8 @@ def main(argv=None) -> int:
     p.add_argument("--out", metavar="FILE.h5", help="write the full result to HDF5")
     p.add_argument("--plot", metavar="FILE.png", help="draw the curves and contact maps")
     p.add_argument("--force", action="store_true",
-                   help="replace an existing --out/--plot file even if fibril-hpc did not write it")
+                   help="replace an existing --out/--plot file (never a campaign file, a "
+                        "journal or a file a running campaign holds)")
     p.add_argument("--ignore-memory-check", action="store_true",
                    help="run even if the scene's memory estimate exceeds the memory available")
     p.add_argument("--no-progress", action="store_true",
@@ -74,7 +75,8 @@ def main(argv=None) -> int:
     setup_logging(args.verbose)
     from ..inputs.config import builtin_scene, load_scene
     from ..inputs.limits import check_memory
-    from ..io.files import check_not_clobbering, check_writable
+    from ..campaign.storage.guard import check_output
+    from ..io.files import check_writable
 
     try:
         if (args.scene is None) == (args.builtin is None):
@@ -83,7 +85,7 @@ def main(argv=None) -> int:
         for path, field in ((args.out, "--out"), (args.plot, "--plot")):
             if path:
                 check_writable(path, field)
-                check_not_clobbering(path, field, args.force)
+                check_output(path, field, args.force)
         if args.out and args.plot and os.path.realpath(args.out) == os.path.realpath(args.plot):
             raise ConfigError("--plot", args.plot, "a file other than --out")
         if not args.ignore_memory_check:

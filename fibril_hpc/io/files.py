@@ -130,8 +130,10 @@ def save_figure(fig, path: str, operation: str = "writing the plot") -> None:
 
 
 def write_text_atomically(path: str, text: str, operation: str = "writing") -> None:
-    """UTF-8 ``text`` to ``path`` (temporary file + rename; ENOSPC/EDQUOT -> DiskFull)."""
-    write_bytes_atomically(path, text.encode("utf-8"), operation,
+    """UTF-8 ``text`` to ``path`` (temporary file + rename; ENOSPC/EDQUOT -> DiskFull). A file
+    name that is not UTF-8 (``b"bad<0xff>.h5"`` reaches Python as lone surrogates) quoted in the
+    text is written with backslash escapes, so the file stays valid UTF-8."""
+    write_bytes_atomically(path, text.encode("utf-8", "backslashreplace"), operation,
                            "." + os.path.basename(path) + ".part-")
 
 

@@ -13,6 +13,7 @@ import html
 import os
 import re
 
+from ..storage.guard import REPORT_MARK
 from .variants import label, show_value
 
 DEFINITIONS = """\
@@ -152,7 +153,7 @@ def _definitions_html(text: str) -> str:
 def html_page(d, tables, figures, seconds=None) -> str:
     """The self-contained HTML page: every figure embedded as a base64 PNG data URI."""
     title = html.escape(os.path.abspath(d.path))
-    parts = ["<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
+    parts = ["<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>" + REPORT_MARK,
              f"<title>Report of {title}</title><style>{_CSS}</style></head><body>",
              f"<h1>Report of <code>{title}</code></h1><div class='head'>"]
     parts += [f"<p>{_inline(line)}</p>" for line in d.headline]

@@ -12,7 +12,10 @@ publishes everything, tells the workers to exit, and every rank exits with statu
 
 A full disk (:class:`~fibril_hpc.errors.DiskFull` from the journal or a checkpoint) is handled
 like a stop signal: the hand-out stops, the results still arriving cannot be written and are
-dropped, every rank exits with 75 and one line names the path and the operation. Any other
+dropped, every rank exits with 75 and one line names the path and the operation. So is a
+published file changed under the writer (:class:`~fibril_hpc.errors.PublishedFileChanged`: cut
+short, emptied or replaced by another program), except that the results still arriving go to
+the journal; the line says how to recover (``salvage``). Any other
 error on the master aborts the whole world (``MPI_Abort``) so that no worker waits for ever.
 """
 
@@ -23,7 +26,15 @@ import sys
 import time
 from collections import deque
 
-from ...errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, DiskFull
+from ...errors import (
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_USAGE,
+    DiskFull,
+    Interruption,
+    PublishedFileChanged,
+)
 from ...model import OperatorCache
 from ..storage.writer import CampaignWriter
 from .control import Interrupted, StopFlag, interrupted_message
@@ -109,12 +120,12 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
                 task = busy.pop(src, None)
                 if recs is None:          # the worker was signalled and abandoned its job
                     stop.stop = True
-                elif full is None:
+                elif full is None or isinstance(full, PublishedFileChanged):
                     try:
-                        writer.add(recs)
+                        writer.add(recs)        # after a PublishedFileChanged: journal only
                         prog.update(recs, running=len(busy))
-                    except DiskFull as exc:     # stop handing out; jobs in flight are lost
-                        full, stop.stop = exc, True
+                    except Interruption as exc:  # stop handing out (a full disk: jobs in
+                        full, stop.stop = full or exc, True    # flight are lost)
                     else:
                         more = planner.after(task, recs)      # F_P: auto: the path's next round
                         queue.extend(more)
@@ -138,7 +149,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
             if full is None:
                 try:
                     writer.checkpoint()
-                except DiskFull as exc:
+                except Interruption as exc:
                     full, stop.stop = exc, True
         prog.show(force=True)
         prog.finish()
@@ -151,7 +162,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
         stop.busy = False
         try:
             writer.close()
-        except DiskFull as exc:           # the records stay in the journal
+        except Interruption as exc:       # the records stay in the journal
             full = full or exc
             code = EXIT_INTERRUPTED
         finally:

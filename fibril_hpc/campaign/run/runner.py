@@ -10,7 +10,7 @@ import logging
 import sys
 from collections import deque
 
-from ...errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, DiskFull
+from ...errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, DiskFull, Interruption
 from ...model import OperatorCache
 from ..storage.writer import CampaignWriter
 from .control import Interrupted, StopFlag, interrupted_message
@@ -78,7 +78,8 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
                 break
             try:
                 writer.add(recs)
-            except DiskFull as exc:       # an interruption: the records of this task are lost
+            except Interruption as exc:   # a full disk (this task's records are lost) or a
+                # published file changed under us (they are in the journal)
                 full = exc
                 break
             more = planner.after(task, recs)      # F_P: auto: the path's next round
@@ -93,7 +94,7 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
         stop.busy = False
         try:
             writer.close()
-        except DiskFull as exc:           # the records stay in the journal
+        except Interruption as exc:       # the records stay in the journal
             full = full or exc
         finally:
             stop.restore()

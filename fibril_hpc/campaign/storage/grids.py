@@ -72,6 +72,14 @@ def job_sweeps(campaign_yaml) -> dict | None:
     return {j.key: dict(zip(names, combos[j.index // per])) for j in spec.jobs}
 
 
+def grid_matches(root: dict) -> bool:
+    """Whether a file's root is whole: its ``campaign_yaml`` rebuilds to a grid whose campaign
+    hash is the root's ``campaign_hash`` (a flipped byte in either breaks it)."""
+    y = root.get("campaign_yaml")
+    spec = _rebuilt(y) if isinstance(y, str) and y else None
+    return spec is not None and spec.campaign_hash == root.get("campaign_hash")
+
+
 def stored_grids(root: dict) -> list:
     """The YAML texts of every grid named by a file's root attributes."""
     out = [root.get("campaign_yaml")]
@@ -108,9 +116,16 @@ class GridIndex:
             self.add_spec(spec)
 
     @classmethod
-    def of_root(cls, root: dict) -> GridIndex:
-        """The index of a file with root attributes ``root``."""
-        return cls(stored_grids(root))
+    def of_root(cls, root: dict, trusted: bool = True) -> GridIndex:
+        """The index of a file with root attributes ``root``. A root without a grid (lost, and
+        salvaged without it), or one not ``trusted`` (damaged: ``salvage``), names no grid that
+        can be rebuilt: its records belong when their key is the key of their own stored scene,
+        as for a grid this version cannot rebuild."""
+        idx = cls(stored_grids(root) if trusted else ())
+        if not trusted or not isinstance(root.get("campaign_yaml"), str) \
+                or not root.get("campaign_yaml"):
+            idx.unknown += 1
+        return idx
 
     def add_spec(self, spec) -> None:
         """Add the grid of a campaign spec (the writer's own)."""
@@ -208,4 +223,4 @@ def _own_key(rec: dict) -> bool:
         return False
 
 
-__all__ = ["GridIndex", "stored_grids", "job_sweeps"]
+__all__ = ["GridIndex", "stored_grids", "job_sweeps", "grid_matches"]

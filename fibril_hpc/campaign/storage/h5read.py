@@ -15,15 +15,17 @@ from dataclasses import dataclass, field
 
 import h5py
 
-from ...errors import DamagedFileError, StoreError
+from ...errors import DamagedFileError, StoreError, UnknownLayoutError
 from ...io import h5check, isolate
 from . import integrity
-from .grids import GridIndex
+from .grids import GridIndex, grid_matches
 from .record import BRANCHES, CURVE_KEYS, CURVE_KINDS, OPTIONAL_CURVE_KEYS, layout_problem
 
 log = logging.getLogger(__name__)
 
 PROGRAM = "fibril-hpc campaign"
+#: the layout version this code writes and the newest it reads (``format_version``)
+FORMAT_VERSION = 1
 #: root dataset of object references to every job group (written by :mod:`.store`)
 REFS = "job_refs"
 
@@ -42,6 +44,24 @@ def read_root(path: str) -> dict:
     return isolate.run_isolated(_read_root, path, what=path)
 
 
+def check_layout_version(root: dict, path: str) -> None:
+    """Refuse (:class:`UnknownLayoutError`, one line) a file whose ``format_version`` is not a
+    layout this code knows (newer, or not a whole number); a root without one (damaged, or
+    salvaged from a lost root) is left to the other checks."""
+    v = root.get("format_version")
+    if v is None:
+        return
+    try:
+        ok = int(v) == v and 1 <= int(v) <= FORMAT_VERSION
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise UnknownLayoutError(
+            f"{path}: layout version (format_version) {str(v)[:40]!s} is not one this "
+            f"fibril-hpc reads (1 to {FORMAT_VERSION}); read it with the fibril-hpc that wrote "
+            "it, or a newer one")
+
+
 def _read_root(path: str) -> dict:
     try:
         with h5py.File(path, "r") as fh:
@@ -56,7 +76,14 @@ def _read_root(path: str) -> dict:
         raise StoreError(f"cannot open {path} as HDF5: {exc}") from None
     if attrs.get("program") != PROGRAM:
         raise StoreError(f"{path} is not a fibril-hpc campaign file")
+    check_layout_version(attrs, path)
     return attrs
+
+
+def root_whole(root: dict) -> bool:
+    """Whether root attributes read from a file can be trusted as they are: they say it is a
+    campaign file, and its grid rebuilds to its campaign hash."""
+    return root.get("program") == PROGRAM and grid_matches(root)
 
 
 def _is_hdf5(path: str) -> bool:
@@ -147,7 +174,10 @@ def _read_h5_checked(path: str, curves: bool, tolerant: bool) -> H5Read:
             raise damaged_error(path, exc) from None
         if out.root.get("program") != PROGRAM and not tolerant:
             raise StoreError(f"{path} is not a fibril-hpc campaign file")
-        out.index = GridIndex.of_root(out.root)
+        check_layout_version(out.root, path)
+        # salvage: a damaged root (a flipped byte) must not make the records foreign; they
+        # then belong by their own stored scene, and still only when their checksum verifies
+        out.index = GridIndex.of_root(out.root, trusted=not tolerant or root_whole(out.root))
         for k in keys:
             try:
                 rec = _read_group(_open_job(jobs, k))
@@ -286,5 +316,6 @@ def read_h5_records(path: str, curves: bool = True) -> tuple[dict, dict]:
     return got.root, got.records
 
 
-__all__ = ["PROGRAM", "REFS", "H5Read", "damaged_error", "read_root",
+__all__ = ["PROGRAM", "FORMAT_VERSION", "REFS", "check_layout_version", "root_whole", "H5Read",
+           "damaged_error", "read_root",
            "read_h5_checked", "read_h5_salvage", "read_h5_records", "warn_corrupt"]

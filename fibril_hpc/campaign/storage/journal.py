@@ -20,8 +20,10 @@ The journal is data, never code. One frame::
 
 The reader resynchronises: after a damaged stretch it looks for the next magic whose header
 checksum holds, so intact frames before *and after* damage are kept. Damaged stretches are
-reported (count and byte ranges, one line); frames of another campaign, and frames whose key is
-no job of the grid (*foreign*: never counted or published), are refused (one line).
+reported (count and byte ranges, one line); frames of another campaign, frames whose key is
+no job of the grid (*foreign*: never counted or published), and frames whose record carries no
+checksum or one that does not verify (*unverified*, see :mod:`.integrity`: the CRCs only say that
+the bytes are the bytes written, not that this code wrote the record), are refused (one line).
 The writer (:class:`JournalWriter`) moves every damaged, foreign or old-format stretch to
 ``<journal>.quarantine`` and keeps the intact frames, so nothing is silently truncated away.
 
@@ -41,6 +43,8 @@ import struct
 import zlib
 
 import numpy as np
+
+from . import integrity
 
 log = logging.getLogger(__name__)
 
@@ -131,6 +135,9 @@ class Scan:
         self.foreign = []        # (start, end) intact frames of another campaign
         #: (start, end) intact frames of this campaign whose key is no job of its grid(s)
         self.outside = []
+        #: (start, end) intact frames whose record has no checksum, or one that does not verify
+        #: (written by hand, by a version before journal checksums, or altered): never counted
+        self.unverified = []
         #: (start, end) of an unfinished last frame: a write in progress (a reader racing the
         #: writer) or cut short by a kill; expected, so never reported as damage
         self.torn = None
@@ -145,7 +152,8 @@ class Scan:
     @property
     def clean(self) -> bool:
         """Whether every byte belongs to an intact record of an accepted campaign."""
-        return not (self.damaged or self.old or self.foreign or self.outside or self.torn)
+        return not (self.damaged or self.old or self.foreign or self.outside or self.unverified
+                    or self.torn)
 
     def message(self, path: str) -> str:
         """One line describing what is not intact ("" when everything is)."""
@@ -160,6 +168,9 @@ class Scan:
                          "(their jobs are recomputed)")
         if self.foreign:
             parts.append(f"{len(self.foreign)} frame(s) of another campaign, refused")
+        if self.unverified:
+            parts.append(f"{len(self.unverified)} frame(s) whose record has no checksum or one "
+                         "that does not verify, not counted (their jobs are recomputed)")
         if self.outside:
             parts.append(f"{len(self.outside)} frame(s) whose key is no job of the grid "
                          "(foreign), refused")
@@ -240,6 +251,8 @@ def _frame_at(data: bytes, pos: int, digests, out: Scan, belongs=None) -> int:
         return 0
     if digests is not None and digest not in digests:
         out.foreign.append((pos, end))
+    elif integrity.check(rec) != integrity.OK:
+        out.unverified.append((pos, end))
     elif belongs is not None and not belongs(rec):
         out.outside.append((pos, end))
     else:
@@ -294,7 +307,8 @@ class JournalWriter:
 
     def _repair(self, data: bytes, s: Scan) -> None:
         qpath = quarantine_path(self.path)
-        bad = sorted(s.damaged + s.old + s.foreign + s.outside + ([s.torn] if s.torn else []))
+        bad = sorted(s.damaged + s.old + s.foreign + s.outside + s.unverified
+                     + ([s.torn] if s.torn else []))
         with open(qpath, "ab") as q:
             q.writelines(data[a:b] for a, b in bad)
             q.flush()
@@ -316,7 +330,8 @@ class JournalWriter:
                      moved, qpath)
 
     def append(self, record: dict) -> None:
-        """Append one frame and ``fsync``; on failure (a full disk) the torn frame is cut off
+        """Append one frame holding ``record`` (sealed with its checksum by the caller: a frame
+        without one is never counted) and ``fsync``; on failure (a full disk) the torn frame is cut off
         again where possible and the ``OSError`` propagates."""
         data = encode(record)
         size = os.fstat(self._fd).st_size

@@ -56,6 +56,7 @@ from ..plan.keys import KEY_EXCLUDED_SOLVER
 from . import integrity
 from . import journal as _journal
 from .h5read import (
+    FORMAT_VERSION,
     PROGRAM,
     REFS,
     H5Read,
@@ -64,13 +65,13 @@ from .h5read import (
     read_h5_records,
     read_h5_salvage,
     read_root,
+    root_whole,
     warn_corrupt,
 )
 from .record import BRANCHES, CURVE_KEYS, OPTIONAL_CURVE_KEYS, SCALAR_KEYS
 
 log = logging.getLogger(__name__)
 
-FORMAT_VERSION = 1
 KEY_DEFINITION = ("first 16 hex digits of SHA-256 of the job's single-preload scene as canonical "
                   "JSON (sorted keys) of k_tilde, sigma_tilde, seed, the preload and every field "
                   "that differs from its default, without "
@@ -170,7 +171,8 @@ def read_records(path: str, curves: bool = True) -> tuple[dict, dict, int]:
 
 def write_record(jobs, rec: dict, sign: bool = True) -> None:
     """Write one record as ``jobs/<key>``, replacing an older one: sealed with its checksum
-    when ``sign`` (a record this code computed or verified), else as it is (an unchecked
+    when ``sign`` (a record this code computed, or whose own checksum verifies: one that
+    carries a checksum that does not verify is refused, StoreError), else as it is (an unchecked
     record copied by ``merge``/``salvage`` stays unchecked: nothing here vouches for it)."""
     key = rec["key"]
     if key in jobs:
@@ -182,6 +184,8 @@ def write_record(jobs, rec: dict, sign: bool = True) -> None:
             k: np.asarray(c[k]) for k in CURVE_KEYS + OPTIONAL_CURVE_KEYS
             if k in CURVE_KEYS or c.get(k) is not None}
     if sign:
+        if rec.get(integrity.ATTR) is not None and integrity.check(rec) != integrity.OK:
+            raise StoreError(f"record {key}: its checksum does not verify; never re-signed")
         stored = integrity.seal(stored)
     elif "checksum" in rec:
         stored["checksum"] = rec["checksum"]
@@ -284,4 +288,4 @@ def write_merged(path: str, root_attrs: dict, records, unsigned=()) -> None:
 __all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",
            "read_snapshot", "checkpoint", "root_attrs_for", "write_merged", "write_record",
            "clean_temporaries", "newer", "accepted_hashes", "H5Read",
-           "Snapshot", "PROGRAM", "REFS"]
+           "Snapshot", "PROGRAM", "REFS", "FORMAT_VERSION", "root_whole"]

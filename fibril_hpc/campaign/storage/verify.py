@@ -10,7 +10,15 @@ cannot be read at all. Anything but verified records is a finding (exit status 1
 ``salvage`` copies every readable record that verifies (and the journal's intact records) into
 a new file with the same root attributes, so that the campaign resumes from it (the grid and
 its ``campaign_hash`` are kept); corrupt and unreadable records are left out and get recomputed
-by the next run. Foreign members are never copied. Unchecked records are copied only with
+by the next run. Foreign members are never copied.
+
+A file cut short, emptied or overwritten (while its campaign ran: the writer then stops with
+exit status 75 and points here), or whose root attributes are damaged (a flipped byte), is
+still salvaged: the records of ``/jobs`` that still read and verify, and every journal frame
+whose own checksum verifies, whatever their campaign. Such records belong when their key is the
+key of their own stored scene. The new file's root then holds only what the resume needs (the
+campaign hash of the journal's records, or the most common one of the file's); the campaign's
+next checkpoint writes the rest of it again. Unchecked records are copied only with
 ``keep_unchecked`` (nothing vouches for them, and a damaged file may hold zeros that read as
 numbers), and then without a checksum: they stay unchecked in the new file.
 """
@@ -18,11 +26,13 @@ numbers), and then without a checksum: they stay unchecked in the new file.
 from __future__ import annotations
 
 import os
+from collections import Counter
 from dataclasses import dataclass, field
 
-from ...errors import DamagedFileError, StoreError
+from ...errors import ConfigError, DamagedFileError, StoreError, UnknownLayoutError
 from . import journal as _journal
 from . import store
+from .grids import GridIndex
 
 
 @dataclass
@@ -93,9 +103,12 @@ def salvage_file(path: str, output: str, keep_unchecked: bool = False) -> dict:
         raise StoreError(f"{output} exists; choose a new output name")
     try:
         got = store.read_h5_checked(path, curves=True)
-    except DamagedFileError:
-        got = store.read_h5_salvage(path)
-    root = dict(got.root)
+    except UnknownLayoutError:
+        raise
+    except StoreError:                 # damaged, cut short, overwritten, or its root is
+        got = store.read_h5_salvage(path)      # damaged: whatever still reads and verifies
+    whole = store.root_whole(got.root)
+    root = dict(got.root) if whole else {}
     recs = {}
     left_unchecked = 0
     for k, r in got.records.items():
@@ -103,8 +116,15 @@ def salvage_file(path: str, output: str, keep_unchecked: bool = False) -> dict:
             left_unchecked += 1
             continue
         recs[k] = r
+    # a lost root names no grid: a frame belongs by its own stored scene (see GridIndex)
+    index = got.index if whole else GridIndex.of_root({}, trusted=False)
     scan = _journal.scan(_journal.read_bytes(_journal.journal_path(path)),
-                         store.accepted_hashes(root), got.index.belongs)
+                         store.accepted_hashes(root) if whole else None, index.belongs)
+    if not whole:
+        if not (recs or scan.records or got.corrupt):
+            raise ConfigError("file", path, "a campaign file, or what is left of one (no record "
+                              "under /jobs verifies and no journal frame does)")
+        root = _lost_root(got.root, recs, scan)
     from_journal = 0
     journal_keys = set()
     for _, _, r in scan.records:
@@ -117,11 +137,25 @@ def salvage_file(path: str, output: str, keep_unchecked: bool = False) -> dict:
     root.pop("created", None)
     root.pop("updated", None)
     root.setdefault("program", store.PROGRAM)
-    root["salvaged_from"] = os.path.abspath(path)
+    # an HDF5 text attribute is UTF-8: a name that is not is kept with backslash escapes
+    root["salvaged_from"] = os.fsencode(os.path.abspath(path)).decode("utf-8", "backslashreplace")
     unsigned = {k for k in got.unchecked_keys if k in recs} - journal_keys
     store.write_merged(output, root, list(recs.values()), unsigned=unsigned)
     return {"copied": len(recs), "corrupt": len(got.corrupt), "foreign": len(got.foreign),
             "unchecked_left_out": left_unchecked, "from_journal": from_journal}
+
+
+def _lost_root(damaged: dict, recs: dict, scan) -> dict:
+    """Root attributes for the salvage of a file whose root is lost or damaged: what resuming
+    needs (the campaign hash of the journal's records, else the most common of the file's)."""
+    hashes = Counter(r.get("campaign_hash") for _, _, r in scan.records) \
+        or Counter(r.get("campaign_hash") for r in recs.values())
+    out = {"program": store.PROGRAM, "format_version": store.FORMAT_VERSION,
+           "root_lost": "the root attributes of the salvaged file did not read whole; the "
+                        "campaign's next checkpoint writes them again"}
+    if hashes:
+        out["campaign_hash"] = hashes.most_common(1)[0][0]
+    return out
 
 
 __all__ = ["verify_file", "salvage_file", "Verdict"]

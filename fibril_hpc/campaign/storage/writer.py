@@ -13,10 +13,16 @@ import logging
 import os
 import time
 
-from ...errors import FULL_ERRNOS, ConfigError, DiskFull, StoreError
+from ...errors import (
+    FULL_ERRNOS,
+    ConfigError,
+    DiskFull,
+    PublishedFileChanged,
+    StoreError,
+)
 from ...io.files import check_writable
+from . import integrity, store
 from . import journal as _journal
-from . import store
 from .record import layout_problem
 
 log = logging.getLogger(__name__)
@@ -114,6 +120,9 @@ class CampaignWriter:
                 self._remember(r)
         self.journal.replayed = None
         self._last_ckpt = time.monotonic()
+        #: the PublishedFileChanged met, if any: from then on records go to the journal only
+        self.changed = None
+        self._seen = _fingerprint(self.path)
         # publishes the replayed journal and drops the corrupt records (or fails: one line);
         # a finished file with nothing to add is left untouched (bitwise)
         if self._unpublished or self.corrupt or not os.path.exists(self.path):
@@ -183,6 +192,7 @@ class CampaignWriter:
         """Journal ``records`` (durably) and checkpoint when due. A full disk raises
         :class:`~fibril_hpc.errors.DiskFull` naming the journal."""
         for rec in records:
+            rec = integrity.seal(rec)      # computed here: the frame carries its checksum
             try:
                 self.journal.append(rec)
             except OSError as exc:
@@ -195,9 +205,15 @@ class CampaignWriter:
 
     def checkpoint(self, force: bool = False) -> None:
         """Fold the journal into the HDF5 file (at most every ``checkpoint_s`` unless ``force``)."""
+        if self.changed is not None:      # journal only: the file is no longer ours to replace
+            return
         if not force and (not self._unpublished
                           or time.monotonic() - self._last_ckpt < self.checkpoint_s):
             return
+        now = _fingerprint(self.path)
+        if now != self._seen:
+            self._changed("size " + ("gone" if now is None else f"{now[2]} bytes") + ", was "
+                          + ("none" if self._seen is None else f"{self._seen[2]} bytes"))
         recs = []
         for r in self._unpublished:
             r = dict(r)
@@ -205,12 +221,19 @@ class CampaignWriter:
             recs.append(r)
         t0 = time.monotonic()
         store.checkpoint(self.path, self.root_attrs, recs, drop=self.corrupt)
+        self._seen = _fingerprint(self.path)
         self.corrupt = set()
         self.journal.reset()
         self._unpublished = []
         self._last_ckpt = time.monotonic()
         # a checkpoint copies the file: keep its cost below ~10 % of the run however big it gets
         self.checkpoint_s = max(self.checkpoint_s, 10.0 * (self._last_ckpt - t0))
+
+    def _changed(self, detail: str):
+        """Stop publishing (the journal keeps every record) and raise PublishedFileChanged."""
+        self.changed = PublishedFileChanged(self.path, self.journal.path, detail)
+        log.info("%s", self.changed)
+        raise self.changed
 
     def close(self) -> None:
         """Publish what is left, then release the journal and the lock (always, even when the
@@ -220,6 +243,8 @@ class CampaignWriter:
         published = False
         try:
             self.checkpoint(force=bool(self._unpublished or self.corrupt))
+            if self.changed is not None:
+                raise self.changed
             published = True
         finally:
             self.journal.close()
@@ -237,6 +262,16 @@ class CampaignWriter:
         finally:
             os.close(self._lock_fd)
             self._lock_fd = None
+
+
+def _fingerprint(path: str):
+    """(device, inode, size, mtime) of the published file (None when there is none): what
+    tells the writer that another program changed it since its last checkpoint."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
 
 
 def _same_file(fd: int, path: str) -> bool:
