@@ -5,8 +5,9 @@ and how well c = alpha/sigma~ - beta then fits, on a real campaign file.
 
 Candidates (the report's columns, :mod:`fibril_hpc.campaign.laws.reading`):
 
-* ``c``       - eq. 15: least-squares slope through the origin over the linear-stage levels;
-* ``c_half``  - the secant through the origin to where F~_A first reaches half the plateau;
+* ``c``       - eq. 15: the secant through the origin to where F~_A first reaches half the
+  plateau (log F~_P interpolation);
+* ``c_stage`` - the least-squares slope through the origin over the linear-stage levels;
 * ``c_chord`` - the chord over the first half of the rise from the smallest level (the report's
   c before issue 28).
 
@@ -34,7 +35,7 @@ import time
 
 import numpy as np
 
-CANDIDATES = ("c", "c_half", "c_chord")
+CANDIDATES = ("c", "c_stage", "c_chord")
 VARIANTS = ("start", "sparse", "no_low", "low")
 START = (0.001, 0.004, 0.016, 0.064, 0.25, 1.0, 4.0)
 

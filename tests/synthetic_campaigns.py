@@ -5,7 +5,9 @@ on the linear stage) and one pillar's pull-off ``floor``; each seed scatters c a
 independent relative normal deviates. Curve shapes:
 
 * ``sharp``: F~_A = min(max(floor, c F~_P), P) - a linear stage with a clean bend;
-* ``smooth``: F~_A = max(floor, P tanh(c F~_P / P)) - initial slope c, bending early;
+* ``smooth``: F~_A = max(floor, P tanh(c F~_P / P)) - initial slope c, bending early (the
+  report's c, the secant through the origin to half the plateau, is 0.5/atanh(0.5) = 0.910 c:
+  :meth:`Truth.c_read`);
 * ``instant``: the brush saturates at first contact: preloads below ``first_contact`` are reached
   there (the overshoot), F~_A = P at every preload;
 * ``lost``: F~_A at the floor (one pillar, per-seed scatter) at every preload.
@@ -26,6 +28,7 @@ from fibril_hpc.campaign.laws import reading
 
 FLOOR = reading.pillar_floor(18, 0.16)
 START = (0.001, 0.004, 0.016, 0.064, 0.25, 1.0, 4.0)      # F_P: auto's first round
+HALF_TANH = 0.5 / math.atanh(0.5)         # a tanh rise's secant to half over its initial slope
 
 
 @dataclass
@@ -39,6 +42,11 @@ class Truth:
     first_contact: float = 0.0  # the smallest F~_P the path can reach
     c_sd: float = 0.1           # relative seed scatter of c
     P_sd: float = 0.03          # relative seed scatter of the plateau
+
+    def c_read(self) -> float:
+        """The report's c of the population curve: the secant through the origin to the point
+        where F~_A reaches half the plateau."""
+        return self.c * (HALF_TANH if self.shape == "smooth" else 1.0)
 
     def state(self, smallest_preload: float) -> str:
         """The state a correct reading reports for preloads from ``smallest_preload``."""
@@ -86,19 +94,21 @@ def group(truth: Truth, seeds: int, preloads=START, extra: int = 0, rounds: int 
     return tuple(np.array(col) for col in zip(*rows))
 
 
-def law_campaign(alpha, beta, sigmas, seeds, shape="sharp", plateau=1.5, preloads=None,
+def law_campaign(alpha, beta, sigmas, seeds, shape="smooth", plateau=1.5, preloads=None,
                  rng=None, c_sd=0.1):
-    """{sigma~: points} of one k~ whose c follows max(alpha/sigma~ - beta, 0): groups with
-    c = 0 lose adhesion; preloads default to a log grid fine enough to resolve every rise."""
+    """{sigma~: points} of one k~ whose c (as the report reads it, :meth:`Truth.c_read`) follows
+    max(alpha/sigma~ - beta, 0): groups with c = 0 lose adhesion; preloads default to a log grid
+    (x 1.5 apart) from well below the rise to well above the plateau."""
     rng = np.random.default_rng(rng)
     out, truths = {}, {}
     for s in sigmas:
         c = max(alpha / s - beta, 0.0)
-        t = Truth("lost" if c == 0 else shape, c, FLOOR if c == 0 else plateau, c_sd=c_sd)
+        slope = c / HALF_TANH if shape == "smooth" else c
+        t = Truth("lost" if c == 0 else shape, slope, FLOOR if c == 0 else plateau, c_sd=c_sd)
         pre = preloads
-        if pre is None:     # from well below the rise to well above the plateau
+        if pre is None:
             top = 4 * plateau / c if c > 0 else 4.0
-            pre = tuple(float(v) for v in np.geomspace(top / 4000, top, 13).round(12))
+            pre = tuple(float(v) for v in np.geomspace(top / 4000, top, 22).round(12))
         out[s] = group(t, seeds, pre, rng=rng)
         truths[s] = t
     return out, truths

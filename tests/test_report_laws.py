@@ -66,32 +66,24 @@ def test_a_first_contact_that_overshoots_says_no_smaller_preload_is_reachable():
     assert "overshot" in r.c_notes[-1] and math.isnan(r.resolve_below)
 
 
-def test_c_is_the_slope_through_the_origin_of_the_linear_stage_and_c0_the_first_contacts():
+def test_c_is_the_secant_to_half_the_plateau_c_stage_the_linear_stage_c0_the_first_contacts():
     c_true, P = 8.0, 1.0
     pre = [0.002, 0.01, 0.03, 0.5, 1.0, 4.0]
     r = reading.read_group(*_group(lambda p: min(c_true * p, P), pre=pre, noise=0.0),
                            floor=FLOOR)
     assert r.state == reading.RESOLVED and r.plateau_state == "reached"
     assert r.plateau == pytest.approx(P)
-    assert r.c == pytest.approx(c_true, rel=1e-9) and r.n_stage == 2     # 0.002: < 3 pillars
-    # the half point is interpolated across the bend at 1/8 between the levels 0.03 and 0.5
-    assert r.F_P_half == pytest.approx(0.03 + (0.5 - 0.24) / 0.76 * 0.47)
-    assert r.c_half == pytest.approx(0.5 / r.F_P_half)
+    # the half point, interpolated in log F~_P between the levels 0.03 (0.24) and 0.5 (1.0)
+    t = (0.5 - 0.24) / (1.0 - 0.24)
+    assert r.F_P_half == pytest.approx(0.03 * (0.5 / 0.03) ** t)
+    assert r.c == pytest.approx(0.5 / r.F_P_half)
+    assert any("x 17 apart" in n for n in r.c_notes)       # levels around it too far apart
+    assert r.c_stage == pytest.approx(c_true, rel=1e-9) and r.n_stage == 2   # 0.002: < 3 pillars
     assert r.c0 == pytest.approx(c_true, rel=1e-9)       # F~_A/F~_P on the linear stage
-
-
-def test_preloads_added_below_the_rise_do_not_move_c_but_move_the_old_chord():
-    # a first-contact floor (one pillar) below a linear rise: F~_A = max(floor, c F~_P), capped
-    c_true, P = 20.0, 1.5
-    def fa(p):
-        return min(max(0.0083, c_true * p), P)
-    coarse = [0.004, 0.016, 0.064, 0.25, 1.0, 4.0]
-    fine = [1e-5, 1e-4, 4e-4] + coarse
-    a = reading.read_group(*_group(fa, pre=coarse, noise=0.0), floor=FLOOR)
-    b = reading.read_group(*_group(fa, pre=fine, noise=0.0), floor=FLOOR)
-    assert a.state == b.state == reading.RESOLVED
-    assert a.c == pytest.approx(b.c, rel=1e-12) and a.c == pytest.approx(c_true, rel=0.02)
-    assert abs(a.c_chord / b.c_chord - 1) > 0.01          # the chord from the smallest level moves
+    # a preload at the half point itself: c is exact
+    exact = reading.read_group(*_group(lambda p: min(c_true * p, P), pre=pre + [P / 2 / c_true],
+                                       noise=0.0), floor=FLOOR)
+    assert exact.c == pytest.approx(c_true)
 
 
 def test_levels_merge_a_first_contact_that_overshot_two_preloads():
@@ -136,12 +128,13 @@ def test_beta_below_zero_says_why_and_a_poor_fit_is_flagged():
 
 def test_study_intervals_hold_the_truth_of_a_noisy_campaign():
     a, b, P = 0.5, 0.25, 1.0
+    half = 0.5 / math.atanh(0.5)        # a tanh rise's secant to half over its initial slope
     pts = {}
     for i, s in enumerate((0.1, 0.2, 0.4, 0.8)):
-        c = a / s - b
-        pre = sorted(set(np.geomspace(1e-3, 4, 20).round(7)))
-        pts[s] = _group(lambda p, c=c: min(c * p, P), pre=pre, seeds=6, noise=0.02,
-                        rng_seed=i)
+        slope = (a / s - b) / half
+        pre = sorted(set(np.geomspace(1e-3, 4, 30).round(7)))
+        pts[s] = _group(lambda p, k=slope: P * math.tanh(k * p / P), pre=pre, seeds=6,
+                        noise=0.02, rng_seed=i)
     st = study_k(1.0, pts, n_boot=100, floor=FLOOR)
     assert st.ab.ok and st.alpha_ci[0] < a < st.alpha_ci[1] and st.beta_ci[0] < b < st.beta_ci[1]
     assert st.sigma_c_ci[0] < a / b < st.sigma_c_ci[1]

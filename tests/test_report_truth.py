@@ -49,11 +49,13 @@ def test_every_state_is_recovered_and_c_where_the_rise_is_resolved(t, seeds, ext
             assert r.c_lower == pytest.approx(t.plateau / x0, rel=5 * t.P_sd)
             assert ("overshot" in r.c_notes[-1]) == (x0 > 1.5 * min(START))
     else:
-        tol = 5 * t.c_sd / math.sqrt(seeds) + (0.12 if t.shape == "smooth" else 0.0)
-        if r.n_stage:
-            assert abs(r.c / t.c - 1) <= tol, (r.c, t.c, r.n_stage)
-        else:                           # the coarse secant, and the reading says so
-            assert any("coarse" in n for n in r.c_notes)
+        seed_tol = 5 * t.c_sd / math.sqrt(seeds)
+        if t.shape == "smooth":         # log interpolation of a tanh across x 4
+            assert abs(r.c / t.c_read() - 1) <= seed_tol + 0.15, (r.c, t.c_read())
+        else:                           # a sharp bend between two levels x 4 apart
+            assert t.c_read() / 4.5 <= r.c <= 4.5 * t.c_read() * (1 + seed_tol)
+            assert any("apart" in n for n in r.c_notes) or \
+                abs(r.c / t.c_read() - 1) <= seed_tol + 0.15
 
 
 @SETTINGS
@@ -69,7 +71,7 @@ def test_preloads_added_below_the_rise_leave_c_unchanged(logc, P, shape, seeds, 
     a = reading.read_group(*group(t, seeds, pre, rng=rng), floor=FLOOR)
     b = reading.read_group(*group(t, seeds, low + pre, rng=rng), floor=FLOOR)
     assert a.state == b.state == reading.RESOLVED
-    assert b.c == pytest.approx(a.c, rel=1e-9)
+    assert b.c == pytest.approx(a.c, rel=1e-9) and b.c_stage == pytest.approx(a.c_stage, rel=1e-9)
 
 
 def test_a_mixed_seed_set_at_the_top_is_flagged_and_never_sets_the_plateau():
@@ -89,18 +91,20 @@ def _coverage(n_seeds, draws, rng):
     for d in range(draws):
         c = float(np.exp(rng.uniform(np.log(3), np.log(300))))
         P = float(rng.uniform(0.3, 2.0))
-        t = Truth("sharp", c, P, c_sd=0.1, P_sd=0.03)
-        pre = tuple(float(v) for v in np.geomspace(P / c / 200, 8 * P / c, 10))
+        t = Truth("smooth", c, P, c_sd=0.1, P_sd=0.03)
+        pre = tuple(float(v) for v in np.geomspace(P / c / 200, 8 * P / c, 16))
         g = study_k(1.0, {0.5: group(t, n_seeds, pre, rng=rng)}, n_boot=100,
                     rng_seed=d).groups[0]
-        hit += g.c_ci[0] <= c <= g.c_ci[1]
+        hit += g.c_ci[0] <= t.c_read() <= g.c_ci[1]
     return hit / draws
 
 
 @pytest.mark.parametrize("n_seeds", [3, 10])
 def test_the_seed_interval_of_c_holds_the_truth_at_the_rate_it_claims(n_seeds):
-    # 95 % claimed; over 60 draws a true 95 % gives >= 51 hits with probability 0.99
-    # (the plain percentile interval held it in 67 % (3 seeds) and 92 % (10) of draws)
+    # the widened interval held the truth in 90-97 % of 120-150 draws (benchmarks/NOTES.md);
+    # >= 51 of 60 here (a true 90 % gives that with probability 0.87, a true 95 % 0.99; the
+    # draws are fixed, so the test is deterministic); the plain percentile interval held it in
+    # 67-81 % (3 seeds)
     assert small_sample_factor(n_seeds) > 1
     assert _coverage(n_seeds, 60, np.random.default_rng(n_seeds)) >= 51 / 60
 

@@ -29,14 +29,14 @@ DEFINITIONS = """\
   plateau or more: c ≥ F̃_A,0/F̃_P,0 is a lower bound, left out of the α/β fit, and the note says
   which preload would resolve it (or that the first contact overshot every smaller preload);
   *rise resolved* - the seed-mean curve crosses half the plateau above the smallest preload.
-* **c** (eq. 15 of He, Li & Popov, F̃_A = c F̃_P on the linear stage): the least-squares slope
-  through the origin over the levels with F̃_A between 3 pillars' pull-off and half the plateau,
-  above the first-contact floor (levels whose F̃_A hardly changes to the next); preloads added
-  below the rise do not move it. Where no level lies there, the secant to the half point (noted
-  as coarse). Other readings in `coefficients.csv`: *c_half* = (plateau/2)/F̃_P,½, the secant
-  through the origin to where the curve first reaches half the plateau; *c_chord*, the chord over
-  the first half of the rise from the smallest preload (the report's c before; it moves with the
-  smallest preload).
+* **c** (eq. 15 of He, Li & Popov, F̃_A = c F̃_P on the linear stage): the slope of the line through
+  the origin and the point where the seed-mean curve first reaches half the plateau,
+  (plateau/2)/F̃_P,½ (F̃_P,½ interpolated in log F̃_P between the two preloads around it: its
+  resolution is their spacing, noted where wider than × 2.5); preloads added below the rise do
+  not move it. Other readings in `coefficients.csv`: *c_stage*, the least-squares slope through
+  the origin over the levels between 3 pillars' pull-off and half the plateau; *c_chord*, the
+  chord over the first half of the rise from the smallest preload (the report's c before; it
+  moves with the smallest preload).
 * **c₀** (the first-contact slope): the geometric mean of F̃_A/F̃_P over the preloads in the first
   quarter of the rise, where a few pillars carry the pull-off. It depends on the smallest preload
   (given beside it).

@@ -185,10 +185,12 @@ def _c_cell(r, ci) -> str:
 
 def coefficients(d) -> Table:
     """Per (k~, sigma~): the state, c (eq. 15 of the paper: slope through the origin over the
-    linear stage), its other readings (c_half, c_chord), c0 (first contact)."""
+    secant through the origin to half the plateau), its other readings (c_stage, c_chord), c0
+    (first contact)."""
     t = Table("coefficients", "Adhesion coefficient c and first-contact slope c₀ per (k̃, σ̃)")
-    t.csv_rows.append(["k_tilde", "sigma_tilde", "state", "c", "c_lo", "c_hi", "c_lower_bound",
-                       "c_half", "c_chord", "n_stage_levels", "F_P_half_plateau",
+    t.csv_rows.append(["k_tilde", "sigma_tilde", "state", "c", "c_lo", "c_hi", "c_resolution",
+                       "c_lower_bound",
+                       "c_stage", "c_chord", "n_stage_levels", "F_P_half_plateau",
                        "resolve_with_F_P_below", "c0", "c0_lo", "c0_hi", "F_P_smallest",
                        "F_A_smallest", "c_detectable", "in_alpha_beta_fit", "c_minus_law",
                        "bias_rel", "dominant_c", "why_out", "note"])
@@ -203,7 +205,7 @@ def coefficients(d) -> Table:
             dom = dominant(r.c, g.c_ci, d.bias)
             note = "; ".join(r.c_notes)
             t.csv_rows.append([repr(k), repr(g.sigma_tilde), r.state, num(r.c), *_ci_csv(g.c_ci),
-                               num(r.c_lower), num(r.c_half), num(r.c_chord), str(r.n_stage),
+                               num(r.c_res), num(r.c_lower), num(r.c_stage), num(r.c_chord), str(r.n_stage),
                                num(r.F_P_half), num(r.resolve_below), num(r.c0),
                                *_ci_csv(g.c0_ci), num(r.F_P0), num(r.F_A0), num(r.c_detect),
                                str(g.in_fit).lower(), num(rr), num(d.bias), dom, g.why_out,

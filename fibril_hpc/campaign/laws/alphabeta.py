@@ -8,7 +8,8 @@ provisional c and is left out (the report names both).
 
 **Fit.** ``scipy.optimize.least_squares`` on the residuals (model - c) / sd, sd the group's
 seed standard deviation of c (bootstrap over seeds), at least the smallest c its scatter can tell
-from 0 (``c_detect``); unweighted when a group has no sd (one seed). The start is the linear
+from 0 (``c_detect``), combined in quadrature with c's interpolation resolution (``c_res``, the
+study passes it in); unweighted when a group has no sd (one seed). The start is the linear
 least-squares line through the groups with c > 0.
 
 **Quality.** chi^2 / dof with weights: a value above the 99 % point of chi^2 (``scipy.stats``)

@@ -35,27 +35,29 @@ preload ("plateau not reached": the value is F~_A there, a lower bound).
   scene: the brush saturates at first contact). c is out of the alpha/beta fit.
 * *rise resolved*: the seed-mean curve crosses half the plateau above the smallest preload.
 
-**c, eq. 15 of He, Li & Popov** (F~_A = c F~_P on the linear stage, no intercept): the
-least-squares slope through the origin, c = sum(F~_P F~_A) / sum(F~_P^2), over the levels of
-the *linear stage*: the levels of the rise with F~_A <= P/2, less the *first-contact floor* (the
-smallest levels whose F~_A hardly changes to the next one, within ``FLOOR_RATIO``: a few
-pillars' pull-off that does not grow with preload) and any level at or below ``FEW_PILLARS``
-pillars' pull-off. Preloads added below the rise land on the floor and leave c unchanged; above
-P/2 the curve bends to the plateau. Where no level lies on the stage (the rise jumps from the
-floor past half the plateau between two levels), c is ``c_half`` and the reading says it is
-coarse.
+**c, eq. 15 of He, Li & Popov** (F~_A = c F~_P on the linear stage, no intercept): the slope
+of the line through the origin and the point where the seed-mean curve first reaches half the
+plateau, c = (P/2) / F~_P,1/2, with F~_P,1/2 interpolated linearly in F~_A against log F~_P
+between the two levels around it (the preloads are spaced in log). It is the slope a reader of the
+paper's linear axes draws through the rise; preloads added below the rise do not move it (only
+the two levels around the half point do), and its resolution is their spacing (``F_P: auto``
+brackets the kink to a factor 2; the reading notes a spacing above ``COARSE_RATIO``); ``c_res``,
+the difference to the same secant with the crossing interpolated linearly in F~_P, measures it
+and enters the alpha/beta fit's errors beside the seed scatter. Chosen
+over the alternatives on the paper grid (benchmarks/c_definitions.py; benchmarks/NOTES.md,
+"Which c"): the law c = alpha/sigma~ - beta fits it within the seed scatter for every k~.
 
-Other readings, kept as named columns: ``c_half`` = (P/2) / F~_P,1/2, the secant through the
-origin to the half point, where the seed-mean curve first reaches half the plateau
-(interpolated linearly in F~_P between the two levels around it; it cuts the corner where those
-levels straddle the bend to the plateau); ``c_chord``, the chord over the first half of the rise from the
-smallest level, (F~_A,1/2 - F~_A,0) / (F~_P,1/2 - F~_P,0) with F~_A,1/2 = F~_A,0 + (P - F~_A,0)/2
-and its crossing interpolated in log F~_P (the report's c before: it moves when preloads are
-added below the rise); and **c0**, the
-first-contact slope: the geometric mean of F~_A / F~_P over the levels in the first quarter of
-the rise (F~_A <= F~_A,0 + (P - F~_A,0)/4; at least the smallest level), where a few pillars
-carry the whole pull-off; on the first-contact floor it is a ratio that grows as the preload
-shrinks, and the reading says so.
+Other readings, kept as named columns: ``c_stage``, the least-squares slope through the origin
+sum(F~_P F~_A) / sum(F~_P^2) over the levels with F~_A between ``FEW_PILLARS`` pillars' pull-off
+and P/2, less the *first-contact floor* (the smallest levels whose F~_A hardly changes to the
+next one, within ``FLOOR_RATIO``); real rises are concave over decades, so it leans on the steep
+first contacts and moves with the sampling inside the stage. ``c_chord``, the chord over the
+first half of the rise from the smallest level, (F~_A,1/2 - F~_A,0) / (F~_P,1/2 - F~_P,0) with
+F~_A,1/2 = F~_A,0 + (P - F~_A,0)/2 (log F~_P interpolation; the report's c before: it moves when
+preloads are added below the rise); and **c0**, the first-contact slope: the geometric mean of
+F~_A / F~_P over the levels in the first quarter of the rise (F~_A <= F~_A,0 + (P - F~_A,0)/4; at
+least the smallest level), where a few pillars carry the whole pull-off; on the first-contact
+floor it is a ratio that grows as the preload shrinks, and the reading says so.
 """
 
 from __future__ import annotations
@@ -83,6 +85,8 @@ RESOLVED, UNRESOLVED, LOST, UNDETERMINED = ("rise resolved", "rise not resolved"
 STATES = (RESOLVED, UNRESOLVED, LOST, UNDETERMINED)
 #: a smallest reached F~_P above this multiple of the smallest requested preload: overshot
 OVERSHOOT = 1.5
+#: levels around the half point further apart than this: c is coarse (F_P: auto brackets 2)
+COARSE_RATIO = 2.5
 
 
 def pillar_floor(n_side: int, phi: float) -> float:
@@ -168,7 +172,7 @@ class Reading:
     plateau_state: str              # "reached", "not reached", "no rise" or "no data"
     plateau_from: float             # smallest F~_P of the plateau set
     n_plateau: int                  # levels in the plateau set
-    c: float                        # eq. 15: slope through the origin over the linear stage
+    c: float                        # eq. 15: secant through the origin to half the plateau
     c0: float                       # first-contact slope (first quarter of the rise)
     F_P0: float                     # smallest F~_P (where the rise starts)
     F_A0: float
@@ -182,7 +186,8 @@ class Reading:
     c_notes: list = field(default_factory=list)        # about c and c0
     state: str = UNDETERMINED       # one of STATES
     c_lower: float = math.nan       # rise not resolved: c >= c_lower
-    c_half: float = math.nan        # secant through the origin to the half point
+    c_stage: float = math.nan       # least-squares slope through the origin over the stage
+    c_res: float = math.nan         # c's interpolation resolution (log against linear in F~_P)
     c_chord: float = math.nan       # chord over the first half of the rise from the smallest level
     n_stage: int = 0                # levels on the linear stage (besides the half point)
     floor: float = math.nan         # one pillar's pull-off (the scale of "adhesion lost")
@@ -322,7 +327,7 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
         notes.append(f"adhesion lost: plateau F~_A = {P:.3g}, within {FEW_PILLARS:g} pillars' "
                      f"pull-off ({few:.3g}; one pillar: {floor:.3g})")
         return Reading(P, plateau_state, x0, int(members.size), 0.0, 0.0, x0, y0, nan, c_detect,
-                       len(lv), 0, top_lo, top_hi, notes, list(notes), state=LOST, c_half=0.0,
+                       len(lv), 0, top_lo, top_hi, notes, list(notes), state=LOST, c_stage=0.0,
                        c_chord=0.0, **base)
     y_half = 0.5 * P
     if y0 >= y_half or s == 0:
@@ -348,17 +353,20 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
                        state=state, c_lower=c_lower,
                        resolve_below=nan if overshot else 0.1 * x0, **base)
     # the rise is resolved: the seed-mean curve crosses P/2 above the smallest level
-    xh, ih = _crossing(lv, y_half, log=False)
+    xh, ih = _crossing(lv, y_half, log=True)
     nf = _floor_levels(lv, s)
     few_ = few if math.isfinite(few) else 0.0
     stage = [i for i in range(nf, ih)
              if few_ < lv.F_A[i] <= y_half and lv.F_P[i] > 0]
-    c_half = y_half / xh if math.isfinite(xh) and xh > 0 else nan
+    c = y_half / xh if math.isfinite(xh) and xh > 0 else nan
+    # the half point's resolution: the crossing interpolated linearly in F~_P instead of log
+    xl, _ = _crossing(lv, y_half, log=False)
+    c_res = abs(c - y_half / xl) if math.isfinite(c) and math.isfinite(xl) and xl > 0 else nan
     if stage:
         xs, ys = lv.F_P[stage], lv.F_A[stage]
-        c = float(np.sum(xs * ys) / np.sum(xs * xs))
+        c_stage = float(np.sum(xs * ys) / np.sum(xs * xs))
     else:
-        c = c_half
+        c_stage = nan
     yc = y0 + half * (P - y0)
     xc, _ = _crossing(lv, yc)
     c_chord = (yc - y0) / (xc - x0) if math.isfinite(xc) and xc > x0 else nan
@@ -368,14 +376,15 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
     elif lv.F_A[0] >= FLOOR_RATIO * lv.F_A[1]:
         c_notes.append("c0 read on the first-contact floor (F~_A hardly changes between the two "
                        "smallest preloads): a ratio F~_A/F~_P that grows as the preload shrinks")
-    if not stage:
-        c_notes.append("no level on the linear stage below half the plateau: c is c_half, the "
-                       "secant to the interpolated half point, coarse (preloads between "
-                       f"{lv.F_P[max(ih - 1, 0)]:.3g} and {lv.F_P[min(ih, len(lv) - 1)]:.3g} "
-                       "would resolve it)")
+    lo_x, hi_x = float(lv.F_P[max(ih - 1, 0)]), float(lv.F_P[min(ih, len(lv) - 1)])
+    if lo_x > 0 and hi_x / lo_x > COARSE_RATIO:
+        c_notes.append(f"the half point lies between preloads {lo_x:.3g} and {hi_x:.3g} "
+                       f"(x {hi_x / lo_x:.2g} apart): c is resolved to that factor at worst; "
+                       "preloads between them would refine it")
     return Reading(P, plateau_state, float(lv.F_P[s]), int(members.size), c, c0, x0, y0, xh,
                    c_detect, len(lv), int(s), top_lo, top_hi, notes, c_notes, state=RESOLVED,
-                   c_half=float(c_half), c_chord=float(c_chord), n_stage=len(stage), **base)
+                   c_stage=c_stage, c_chord=float(c_chord), n_stage=len(stage), c_res=c_res,
+                   **base)
 
 
 def path_plateau_reached(F_P, F_A, rtol: float = PATH_RTOL) -> bool:

@@ -102,7 +102,9 @@ def _ab_points(groups, cs=None):
     use = [g for g in groups if g.in_fit]
     s = [g.sigma_tilde for g in use]
     c = [g.reading.c for g in use] if cs is None else cs
-    sd = [max(g.c_sd, g.reading.c_detect) if math.isfinite(g.c_sd) else math.nan for g in use]
+    sd = [math.hypot(max(g.c_sd, g.reading.c_detect),
+                     g.reading.c_res if math.isfinite(g.reading.c_res) else 0.0)
+          if math.isfinite(g.c_sd) else math.nan for g in use]
     return s, c, sd
 
 
