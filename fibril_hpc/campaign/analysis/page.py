@@ -44,9 +44,10 @@ DEFINITIONS = """\
   c from the seeds); groups that lost adhesion enter with c = 0; σ̃ = 0, plateaus not reached and
   rises not resolved do not. The law is *fitted* only when χ² is below its 99 % point and α's
   interval excludes 0; a *poor fit* is shown for orientation; otherwise *undefined*, with the
-  reason. σ̃_c = α/β is *measured* when the law is fitted and β's interval excludes 0; where it
-  falls inside the model-free data bracket (largest σ̃ with c > 0, smallest with c = 0) it is
-  *pinned* by the c = 0 point and the bracket is the measurement.
+  reason. σ̃_c = α/β is *measured* when the law is fitted, β's interval excludes 0 and no σ̃ lost
+  adhesion (an extrapolation); where one did, the model-free data bracket (largest σ̃ with c > 0,
+  smallest with c = 0) is the measurement: α/β inside it is *pinned* by the c = 0 point, outside
+  it *undefined* (the line contradicts the data).
 * **Errors**: [seed CI] is a bootstrap over seeds (seed labels resampled jointly for a k̃, every
   reading redone), its 2.5–97.5 % range widened about the value by t/z·√(n/(n−1)) for n seeds
   (over synthetic groups of known truth it then held the true c in 90 % of draws at 3 seeds and

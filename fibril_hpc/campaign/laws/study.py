@@ -13,11 +13,13 @@ Student-t interval (covariance scaled by chi^2/dof) as well.
 **What the page may claim** (:func:`judge`). A k~ is *fitted* only when the fit exists, is not
 poor and alpha's seed interval excludes 0; a poor fit is shown for orientation and named so; an
 alpha consistent with 0 (interval reaching 0 or below) makes the law undefined for that k~.
-sigma~_c = alpha/beta is *measured by the law* only when the k~ is fitted and beta's interval
-excludes 0; with beta consistent with 0 it is undefined (the data do not show c reaching 0).
-Where it falls inside the model-free bracket (the largest sigma~ with c > 0, the smallest with
-c = 0) the line's zero is pinned by the c = 0 point: the bracket is the measurement, and the
-fitted value only says where inside it the line crosses.
+sigma~_c = alpha/beta is *measured by the law* only when the k~ is fitted, beta's interval
+excludes 0 and no sigma~ run lost adhesion (an extrapolation beyond the largest sigma~, with its
+interval); with beta consistent with 0 it is undefined (the data do not show c reaching 0).
+Where a sigma~ lost adhesion the model-free bracket (the largest sigma~ with c > 0, the smallest
+with c = 0) is the measurement: alpha/beta inside it is *pinned* by the c = 0 point (it only says
+where inside the line crosses), outside it the line contradicts the data and sigma~_c is
+undefined.
 """
 
 from __future__ import annotations
@@ -218,6 +220,10 @@ def judge(st: KStudy) -> KStudy:
         st.sigma_c_status = "pinned"
         st.sigma_c_why = (f"alpha/beta = {ab.sigma_c:.3g} lies in {br}: the line's zero is set "
                           f"by the c = 0 point at sigma~ = {hi:g}; the bracket is the measurement")
+    elif math.isfinite(hi):
+        st.sigma_c_status = "undefined"
+        st.sigma_c_why = (f"alpha/beta = {ab.sigma_c:.3g} lies outside {br}: the line does not "
+                          "follow the measured c = 0; the bracket is the measurement")
     else:
         st.sigma_c_status, st.sigma_c_why = "measured", ""
     return st
