@@ -23,7 +23,7 @@ from ..errors import (
     StoreError,
 )
 from ..io.files import check_output_folder, check_writable
-from .common import OUT_OF_MEMORY, Parser, add_version, error, pipe_safe, setup_logging
+from .common import OUT_OF_MEMORY, Parser, add_version, error, interruptible, pipe_safe, setup_logging
 
 ON_CONFLICT = ("refuse", "first", "last")
 UNCHECKED_HELP = ("also take records without a checksum (nothing vouches for them: written "
@@ -120,6 +120,8 @@ def _parser() -> Parser:
 
 
 @pipe_safe
+@interruptible(PROG, "files are written whole or not at all; rerun the same command (a run "
+               "resumes)")         # a run handles its own stop signals (campaign.run.control)
 def main(argv=None) -> int:
     """``fibril-campaign``; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
