@@ -102,6 +102,29 @@ def test_dry_run_writes_nothing(tmp_path, capsys):
     assert os.listdir(tmp_path) == ["grid.yaml"]
 
 
+def test_a_fifo_is_refused_at_once_in_one_line(tmp_path, capsys):
+    """A FIFO where a campaign file is read (the output, a file given to a reader) is one line
+    at once, not a 'damaged HDF5 structure' after the reader's 15 s stall guard."""
+    import time
+
+    from fibril_hpc import StoreError, load_campaign
+
+    fifo = tmp_path / "x.h5"
+    os.mkfifo(fifo)
+    grid = write_grid(tmp_path, output="x.h5")
+    for extra in (["--dry-run"], ["--no-progress"]):
+        t = time.monotonic()
+        assert main([grid, *extra]) == 2
+        err = capsys.readouterr().err
+        assert time.monotonic() - t < 10 and err.count("\n") == 1, err
+        assert "output" in err and "FIFO" in err and "damaged" not in err
+    t = time.monotonic()
+    with pytest.raises(StoreError, match="FIFO"):
+        load_campaign(str(fifo))
+    assert time.monotonic() - t < 10
+    assert sorted(os.listdir(tmp_path)) == ["grid.yaml", "x.h5"]
+
+
 def test_dry_run_model_follows_preloads_preset_and_grid():
     """The cost model's shape (campaign/plan/estimate.py): the default 18 x 18 scene it was fitted on,
     more and larger preloads cost more, `fast` less, a d_tilde preload counts as a full one."""
