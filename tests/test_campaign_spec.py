@@ -102,6 +102,25 @@ def test_dry_run_writes_nothing(tmp_path, capsys):
     assert os.listdir(tmp_path) == ["grid.yaml"]
 
 
+def test_dry_run_after_editing_the_grid_refuses_as_the_run_does(tmp_path, capsys):
+    """An output written from another grid: the run refuses and asks for --extend (exit 2), so
+    the dry run says the same and exits 2; with --extend both go ahead."""
+    one = {**TINY, "k_tilde": [1], "sigma_tilde": [0.3], "F_P": [0.3], "seeds": 1}
+    grid = write_grid(tmp_path, one)
+    assert main([grid, "--no-progress"]) == 0
+    write_grid(tmp_path, {**one, "k_tilde": [1, 0.01]})          # the user edits the grid
+    capsys.readouterr()
+    assert main([grid, "--dry-run"]) == 2
+    dry = capsys.readouterr()
+    assert dry.out == "" and dry.err.count("\n") == 1 and "--extend" in dry.err
+    before = sorted(os.listdir(tmp_path))
+    assert main([grid, "--no-progress"]) == 2                       # the run: the same line
+    assert capsys.readouterr().err == dry.err
+    assert sorted(os.listdir(tmp_path)) == before
+    assert main([grid, "--dry-run", "--extend"]) == 0
+    assert "1 done, 0 failed, 1 to run" in capsys.readouterr().out
+
+
 def test_a_fifo_is_refused_at_once_in_one_line(tmp_path, capsys):
     """A FIFO where a campaign file is read (the output, a file given to a reader) is one line
     at once, not a 'damaged HDF5 structure' after the reader's 15 s stall guard."""

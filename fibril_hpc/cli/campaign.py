@@ -41,7 +41,9 @@ def _parser() -> Parser:
     r.add_argument("grid", help="campaign grid YAML")
     r.add_argument("--output", metavar="FILE.h5",
                    help="output file (default: the grid's 'output', relative to its folder)")
-    r.add_argument("--dry-run", action="store_true", help="print jobs and estimated cost; run nothing")
+    r.add_argument("--dry-run", action="store_true",
+                   help="print jobs and estimated cost, or refuse as the run would (exit 2); "
+                        "run nothing")
     r.add_argument("--retry-failed", action="store_true", help="rerun jobs recorded as failed")
     r.add_argument("--extend", action="store_true",
                    help="accept an output file written from another grid and add this grid's jobs")
@@ -196,6 +198,9 @@ def cmd_run(args) -> int:
     comm = connect(serial=args.serial)
     rank = 0 if comm is None else comm.Get_rank()
     if args.dry_run:
+        from ..campaign.storage.writer import check_output
+
+        check_output(spec, args.extend)   # what the run would refuse, the dry run refuses
         if rank == 0:
             _print_plan(spec, args.retry_failed)
         return EXIT_OK
