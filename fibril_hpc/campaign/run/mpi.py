@@ -100,6 +100,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
             r = idle.popleft()
             busy[r] = queue.popleft()
             comm.send(("task", busy[r]), dest=r, tag=TAG_TASK)
+        prog.set_running(_jobs(busy))
         status = MPI.Status()
         stop_since = None
         while busy:
@@ -112,7 +113,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
                 elif full is None:
                     try:
                         writer.add(recs)
-                        prog.update(recs, running=len(busy))
+                        prog.count(recs)
                     except DiskFull as exc:     # stop handing out; jobs in flight are lost
                         full, stop.stop = exc, True
                     else:
@@ -124,6 +125,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
                     r = idle.popleft()
                     busy[r] = queue.popleft()
                     comm.send(("task", busy[r]), dest=r, tag=TAG_TASK)
+                prog.set_running(_jobs(busy))
                 continue
             if stop.stop:
                 if stop_since is None:
@@ -140,7 +142,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
                     writer.checkpoint()
                 except DiskFull as exc:
                     full, stop.stop = exc, True
-        prog.show(force=True)
+        prog.set_running(_jobs(busy), force=True)   # 0, or the jobs the grace period gave up
         prog.finish()
         if stop.stop or queue:
             code = EXIT_INTERRUPTED
@@ -173,6 +175,11 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
         sys.stderr.flush()
         comm.Abort(EXIT_INTERRUPTED)
     return code
+
+
+def _jobs(busy: dict) -> int:
+    """Jobs in flight: those of every task handed out to a worker and not yet back."""
+    return sum(len(t.jobs) for t in busy.values())
 
 
 def run_worker(comm) -> int:
