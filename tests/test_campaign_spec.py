@@ -84,6 +84,43 @@ def test_missing_k_and_bad_yaml_and_missing_file(tmp_path, capsys):
     assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "grid.yaml"]
 
 
+def test_empty_grid_file_is_one_clear_line(tmp_path, capsys):
+    for text in ("", "# nothing yet\n"):
+        p = tmp_path / "empty.yaml"
+        p.write_text(text)
+        assert main([str(p), "--dry-run"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "error: grid:" in err and "this file is empty" in err
+        assert "None" not in err
+
+
+@pytest.mark.parametrize("changes, field, hint", [
+    ({"k_tilda": [1]}, "k_tilda", "'k_tilde'"),
+    ({"Seeds": 2}, "Seeds", "'seeds'"),
+    ({"scene": {"n_sde": 4}}, "scene.n_sde", "'n_side'"),
+    ({"scene": {"solver": {"cg_tl": 1e-8}}}, "scene.solver.cg_tl", "'cg_tol'"),
+    ({"scene": {"physical": {"E_str": 1e6, "dgamma": 0.05, "diameter": 2e-5}}},
+     "scene.physical.E_str", "'E_star'"),
+    ({"sweep": {"n_sid": [2, 3]}}, "sweep.n_sid", "'n_side'"),
+    ({"F_P": {"auto": {"rounds_": 3}}}, "F_P.auto.rounds_", "'rounds'"),
+])
+def test_a_typo_in_a_key_gets_a_did_you_mean(tmp_path, capsys, changes, field, hint):
+    assert main([write_grid(tmp_path, **changes), "--dry-run"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"error: {field}:" in err
+    assert f"(did you mean {hint}?)" in err
+    with pytest.raises(ConfigError, match=r"did you mean"):        # the library says it too
+        _spec(**changes)
+
+
+def test_no_did_you_mean_when_nothing_is_close_and_scene_fields_belong_under_scene(tmp_path):
+    with pytest.raises(ConfigError) as ei:
+        _spec(zzz=1)
+    assert "did you mean" not in str(ei.value) and "output, scene" in str(ei.value)
+    with pytest.raises(ConfigError, match="n_side is a scene field: write it under scene:"):
+        _spec(n_side=4)
+
+
 def test_cli_usage_errors_exit_2(tmp_path):
     for args in ([], ["report", "x.h5"], ["status", str(tmp_path / "none.h5")],
                  ["export", str(tmp_path / "none.h5"), "--csv", "o.csv"], ["run", "--bogus"],

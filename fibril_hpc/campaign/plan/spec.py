@@ -41,13 +41,13 @@ from dataclasses import dataclass, field
 
 import yaml
 
-from ...errors import ConfigError
+from ...errors import ConfigError, unknown_key
 from ...inputs.config import read_yaml
 from ...inputs.heights import is_file as is_height_file
 from ...inputs.limits import check_job_count
 from ...inputs.physical import grid_values
 from ...inputs.ranges import as_float, range_of
-from ...inputs.scene import Scene, scene_from_dict
+from ...inputs.scene import SCENE_FIELDS, Scene, scene_from_dict
 from .auto import parse, settings_hash
 from .axes import record_n_side
 from .keys import campaign_hash_of, job_key, key_fields, key_of_fields
@@ -313,7 +313,10 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
                           "d_tilde or F_P, seeds")
     unknown = sorted(set(map(str, data)) - set(TOP_KEYS))
     if unknown:
-        raise ConfigError(unknown[0], data.get(unknown[0]), "a known key: " + ", ".join(TOP_KEYS))
+        if unknown[0] in SCENE_FIELDS and unknown[0] not in SWEPT:
+            raise ConfigError(unknown[0], data.get(unknown[0]), "a key of the grid; "
+                              f"{unknown[0]} is a scene field: write it under scene:")
+        raise unknown_key(unknown[0], data.get(unknown[0]), TOP_KEYS)
     out = data.get("output")
     if not isinstance(out, str) or not out.strip() or not out.endswith((".h5", ".hdf5")):
         raise ConfigError("output", out, "a file name ending in .h5 (relative to the YAML's folder)")
@@ -434,6 +437,10 @@ def load_spec(path: str, output: str | None = None) -> CampaignSpec:
     """Read a grid YAML; ``output`` (a path relative to the working directory) overrides the
     file's ``output`` (which is relative to the YAML's folder)."""
     data = read_yaml(path, field="grid")
+    if data is None:                   # an empty file (or only comments): say so, not "got None"
+        raise ConfigError("grid", path, "a YAML mapping with output, scene, k_tilde, sigma_tilde, "
+                          "F_P or d_tilde, seeds (this file is empty; `fibril-campaign example "
+                          "demo` prints one to start from)")
     if isinstance(data, dict) and output is not None:
         data = dict(data)
         data["output"] = os.path.abspath(output)
