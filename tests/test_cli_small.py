@@ -94,7 +94,9 @@ def test_ctrl_c_on_fibril_run_is_one_line_and_75(tmp_path):
     out = tmp_path / "r.h5"
     p = subprocess.Popen([os.path.join(BIN, "fibril-run"), "--builtin", "default", "--no-progress",
                           "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, cwd=tmp_path)
+                         text=True, cwd=tmp_path,
+                         # a test run in the background (nohup, `&`) inherits SIGINT ignored
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + 120
         while _cpu_s(p.pid) < 2.0 and p.poll() is None and time.monotonic() < deadline:
