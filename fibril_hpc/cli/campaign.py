@@ -224,7 +224,7 @@ def _print_plan(spec, retry_failed: bool) -> None:
         print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
               f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
               f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds{swept}), "
-              f"{len(spec.tasks())} loading paths")
+              f"{spec.n_tasks()} loading paths")
     else:
         a = spec.auto
         print(f"campaign {spec.campaign_hash[:12]}: F_P auto, {len(spec.paths())} loading paths "
@@ -234,7 +234,7 @@ def _print_plan(spec, retry_failed: bool) -> None:
               f"up to {a.rounds - 1} more rounds until {a.below} preloads lie below the kink and "
               f"{a.above} above it (the counts and cost below are round 0's)")
     print(f"output {spec.output}: {pl.done} done, {pl.failed} failed, {len(pl.to_run)} to run "
-          f"in {len(pl.tasks)} simulate calls")
+          f"in {pl.n_tasks} simulate calls")
     sizes = "" if len(spec.n_sides) < 2 else (
         f"n_side {', '.join(map(str, spec.n_sides))}; the largest: ")
     print(f"grid: {sizes}{spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "

@@ -70,7 +70,7 @@ def check_output(spec, extend: bool = False) -> list:
         return history
     jrecs, _ = _journal.read(_journal.journal_path(path))
     hashes = {r.get("campaign_hash") for r in jrecs if r.get("type") == "job"}
-    other = hashes - {spec.campaign_hash}
+    other = hashes - {spec.campaign_hash} if hashes else set()   # the hash sorts every key
     if other and not extend:
         raise ConfigError("output", path,
                           "a file of this grid: its journal holds records of another grid; "
