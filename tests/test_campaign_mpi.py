@@ -63,6 +63,7 @@ def test_mpi_ungrouped_equals_serial_grouped(tmp_path, serial):
     assert lines[-1].startswith("fibril-campaign: 16/16 jobs (16 done, 0 failed, 0 running; ")
 
 
+@pytest.mark.slow
 def test_sigterm_to_mpirun_exits_75_then_resumes(tmp_path, serial):
     from fibril_hpc import load_campaign
 
@@ -114,6 +115,7 @@ def test_other_grid_refused_under_mpirun(tmp_path, serial):
     assert (tmp_path / "tiny.h5").read_bytes() == before
 
 
+@pytest.mark.slow
 def test_mpi_auto_preloads_equal_serial(tmp_path):
     """F_P: auto under MPI: the master plans every path's rounds; same preloads and records."""
     from test_campaign_auto import AUTO

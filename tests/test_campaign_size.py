@@ -324,6 +324,7 @@ REPORT_GRID = {"output": "r.h5", "scene": {"preset": "fast"}, "k_tilde": [1.0, 0
                "seeds": 3, "sweep": {"n_side": [4, 8, 16]}}
 
 
+@pytest.mark.slow
 def test_the_report_reads_the_plateau_per_brush_size(tmp_path):
     path = _synthetic(tmp_path, REPORT_GRID)
     files = write_report(path, str(tmp_path / "rep"), n_boot=40)
@@ -379,6 +380,7 @@ def test_a_grid_without_the_size_sweep_gets_no_finite_size_section(tmp_path):
     assert "Finite size" not in page and "n_side" not in page
 
 
+@pytest.mark.slow
 def test_the_report_of_a_size_sweep_still_running_names_what_it_reads(tmp_path):
     path = _synthetic(tmp_path, {**REPORT_GRID, "seeds": 1})
     c = load_campaign(path)

@@ -143,6 +143,7 @@ def test_example_list_unknown_and_output_file(tmp_path, capsys):
     assert main(["example", "demo", "-o", str(out)]) == 2       # never over an existing file
 
 
+@pytest.mark.slow
 def test_the_wheel_ships_the_examples(tmp_path):
     """`pip install fibril-hpc` alone is enough: the built wheel holds every grid and script,
     byte for byte, scripts executable."""

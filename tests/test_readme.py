@@ -1,4 +1,5 @@
-"""README's promises to a new user: a snippet names the extra it needs."""
+"""README's promises to a new user: a snippet names the extra it needs, the test commands are
+the ones CI and the markers run."""
 
 import os
 import re
@@ -34,3 +35,13 @@ def test_every_python_snippet_of_readme_names_the_extra_it_needs():
         assert named, b
         have = set().union(*(_names(extras[e]) for e in named.group(1).split(",")))
         assert {"pandas", "pyarrow", "xarray", "h5netcdf"} <= have, (named.group(1), have)
+
+
+def test_readme_names_the_full_test_run_ci_runs_and_the_quick_one():
+    readme = _read("README.md")
+    ci = _read(".ci/run")
+    assert re.search(r"^pytest -q$", ci, re.M)                   # CI: the full run
+    assert "`pytest -q`" in readme and '`pytest -q -m "not slow"`' in readme
+    opts = tomllib.loads(_read("pyproject.toml"))["tool"]["pytest"]["ini_options"]
+    assert "-m" not in opts["addopts"].split()        # a bare `pytest -q` deselects nothing
+    assert any(m.startswith("slow:") for m in opts["markers"])

@@ -71,6 +71,7 @@ def _records(path):
         return 0
 
 
+@pytest.mark.slow
 def test_a_killed_worker_rank_is_resumed_by_requeue(tmp_path):
     grid = write_grid(tmp_path, {**TINY, "scene": {**TINY["scene"], "n_side": 3}},
                       group_preloads=False, seeds=6)                        # 48 jobs
