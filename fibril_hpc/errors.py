@@ -30,6 +30,23 @@ class ConfigError(FibrilError, ValueError):
         super().__init__(f"{field}: got {_short_repr(value)}; allowed: {allowed}")
 
 
+def unknown_key(field: str, value, known, what: str = "a known key") -> ConfigError:
+    """The :class:`ConfigError` of a key that is none of ``known``: ``field`` is the key as the
+    user wrote it (with its dotted prefix, e.g. ``scene.k_tlde``), and the allowed text names
+    the closest known key first when one is close (``did you mean 'k_tilde'?``, by
+    :func:`difflib.get_close_matches`), then every known key."""
+    import difflib
+
+    key = str(field).rsplit(".", 1)[-1]
+    known = [str(k) for k in known]
+    close = difflib.get_close_matches(key, known, n=1, cutoff=0.6) or \
+        difflib.get_close_matches(key.lower(), [k.lower() for k in known], n=1, cutoff=0.6)
+    if close and close[0] not in known:               # matched case-insensitively
+        close = [next(k for k in known if k.lower() == close[0])]
+    hint = f" (did you mean {close[0]!r}?)" if close else ""
+    return ConfigError(field, value, f"{what}{hint}: " + ", ".join(known))
+
+
 def _short_repr(value) -> str:
     """``repr`` of a value, bounded in size and depth (a YAML alias bomb must not become a
     message of hundreds of megabytes)."""

@@ -67,6 +67,7 @@ def jkr_error(ac_over_h, opts):
     return -br.F_min / analytic.jkr_max_tension(R, dg) - 1
 
 
+@pytest.mark.slow
 def test_jkr_sphere_pull_off_converges_from_above(opts):
     e6, e12 = jkr_error(6, opts), jkr_error(12, opts)
     # measured: +24 % at a_c/h = 6, +12.6 % at 12, +7.4 % at 24 (converges like h/a_c)
@@ -74,6 +75,7 @@ def test_jkr_sphere_pull_off_converges_from_above(opts):
     assert e12 < 0.15
 
 
+@pytest.mark.slow
 def test_hertz_without_adhesion(opts):
     R = 1.0
     h = 0.01

@@ -36,6 +36,7 @@ def quick(tmp_path_factory):
         return proc.stdout, json.load(fh)
 
 
+@pytest.mark.slow
 def test_table_has_every_section(quick):
     stdout, res = quick
     lines = stdout.splitlines()

@@ -77,6 +77,7 @@ def test_auto_preloads_bracket_the_kink(auto_run):
     assert added >= len(paths)          # it placed preloads of its own
 
 
+@pytest.mark.slow
 def test_auto_resume_after_sigkill_same_preloads_and_records(auto_run, tmp_path):
     _, ref = auto_run
     grid = write_grid(tmp_path, AUTO)
@@ -150,6 +151,7 @@ def test_shipped_grids_load():
     assert specs["report_example.yaml"].campaign_hash.startswith("062ebf3df2b0")
 
 
+@pytest.mark.slow
 def test_auto_shards_merge_into_the_same_records(auto_run, tmp_path):
     _, ref = auto_run
     for s in (0, 1):

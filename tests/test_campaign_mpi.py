@@ -54,11 +54,16 @@ def test_mpi_equals_serial_bitwise(tmp_path, serial, n):
 
 def test_mpi_ungrouped_equals_serial_grouped(tmp_path, serial):
     grid = write_grid(tmp_path, group_preloads=False)
-    r = _mpirun(3, [grid, "--no-progress"])
+    r = _mpirun(3, [grid])                      # with the progress line (not a terminal: lines)
     assert r.returncode == 0, r.stderr
     assert same_numbers(serial, results_by_key(str(tmp_path / "tiny.h5"))) == []
+    # its first line, as the two workers get their first job, counts them running (it said 0)
+    lines = [x for x in r.stderr.splitlines() if " jobs (" in x]
+    assert lines[0].startswith("fibril-campaign: 0/16 jobs (0 done, 0 failed, 2 running; "), lines
+    assert lines[-1].startswith("fibril-campaign: 16/16 jobs (16 done, 0 failed, 0 running; ")
 
 
+@pytest.mark.slow
 def test_sigterm_to_mpirun_exits_75_then_resumes(tmp_path, serial):
     from fibril_hpc import load_campaign
 
@@ -110,6 +115,7 @@ def test_other_grid_refused_under_mpirun(tmp_path, serial):
     assert (tmp_path / "tiny.h5").read_bytes() == before
 
 
+@pytest.mark.slow
 def test_mpi_auto_preloads_equal_serial(tmp_path):
     """F_P: auto under MPI: the master plans every path's rounds; same preloads and records."""
     from test_campaign_auto import AUTO

@@ -39,6 +39,7 @@ def _finish(proc, timeout=120):
     return proc.returncode, out, err
 
 
+@pytest.mark.slow
 def test_sigkill_at_random_moments_then_resume_exactly_once(tmp_path):
     grid = write_grid(tmp_path, group_preloads=False, seeds=8)     # 64 jobs
     out = str(tmp_path / "tiny.h5")

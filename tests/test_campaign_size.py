@@ -182,7 +182,7 @@ def test_the_dry_run_prices_each_brush_size_by_its_own_finished_jobs(runs, tmp_p
     monkeypatch.setattr(status, "task_seconds", lambda *a: 1000.0)   # the model: flat, marked
     shutil.copy(d / "plain.h5", tmp_path / "size.h5")                # n_side 2 done, 3 not
     pl = status.plan(spec_from_dict(GRID, base_dir=str(tmp_path)))
-    assert {t.scene.n_side for t in pl.tasks} == {3} and len(pl.to_run) == 4
+    assert set(pl.sizes) == {3} and len(pl.to_run) == 4
     df = load_campaign(str(d / "plain.h5")).to_dataframe()
     mean2 = float((df["wall_s"] / df["group_size"]).mean())
     # a flat model scaled to n_side 2's measured cost: n_side 3's four jobs at that cost
@@ -192,7 +192,7 @@ def test_the_dry_run_prices_each_brush_size_by_its_own_finished_jobs(runs, tmp_p
         f"({4 * mean2 / 2000.0:.2g})")
     # a grid of n_side 3 alone: the file's n_side 2 jobs price nothing of it
     pl = status.plan(spec_from_dict({**GRID, "sweep": {"n_side": [3]}}, base_dir=str(tmp_path)))
-    assert pl.estimate_s == 1000.0 * len(pl.tasks) and pl.how.endswith("; model for n_side 3")
+    assert pl.estimate_s == 1000.0 * pl.n_tasks and pl.how.endswith("; model for n_side 3")
     # both sizes measured: a third preload is priced by each size's own mean
     shutil.copy(d / "size.h5", tmp_path / "size.h5")
     pl = status.plan(spec_from_dict({**GRID, "F_P": [0.3, 1.0, 2.0]}, base_dir=str(tmp_path)))
@@ -324,6 +324,7 @@ REPORT_GRID = {"output": "r.h5", "scene": {"preset": "fast"}, "k_tilde": [1.0, 0
                "seeds": 3, "sweep": {"n_side": [4, 8, 16]}}
 
 
+@pytest.mark.slow
 def test_the_report_reads_the_plateau_per_brush_size(tmp_path):
     path = _synthetic(tmp_path, REPORT_GRID)
     files = write_report(path, str(tmp_path / "rep"), n_boot=40)
@@ -379,6 +380,7 @@ def test_a_grid_without_the_size_sweep_gets_no_finite_size_section(tmp_path):
     assert "Finite size" not in page and "n_side" not in page
 
 
+@pytest.mark.slow
 def test_the_report_of_a_size_sweep_still_running_names_what_it_reads(tmp_path):
     path = _synthetic(tmp_path, {**REPORT_GRID, "seeds": 1})
     c = load_campaign(path)

@@ -84,6 +84,43 @@ def test_missing_k_and_bad_yaml_and_missing_file(tmp_path, capsys):
     assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "grid.yaml"]
 
 
+def test_empty_grid_file_is_one_clear_line(tmp_path, capsys):
+    for text in ("", "# nothing yet\n"):
+        p = tmp_path / "empty.yaml"
+        p.write_text(text)
+        assert main([str(p), "--dry-run"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "error: grid:" in err and "this file is empty" in err
+        assert "None" not in err
+
+
+@pytest.mark.parametrize("changes, field, hint", [
+    ({"k_tilda": [1]}, "k_tilda", "'k_tilde'"),
+    ({"Seeds": 2}, "Seeds", "'seeds'"),
+    ({"scene": {"n_sde": 4}}, "scene.n_sde", "'n_side'"),
+    ({"scene": {"solver": {"cg_tl": 1e-8}}}, "scene.solver.cg_tl", "'cg_tol'"),
+    ({"scene": {"physical": {"E_str": 1e6, "dgamma": 0.05, "diameter": 2e-5}}},
+     "scene.physical.E_str", "'E_star'"),
+    ({"sweep": {"n_sid": [2, 3]}}, "sweep.n_sid", "'n_side'"),
+    ({"F_P": {"auto": {"rounds_": 3}}}, "F_P.auto.rounds_", "'rounds'"),
+])
+def test_a_typo_in_a_key_gets_a_did_you_mean(tmp_path, capsys, changes, field, hint):
+    assert main([write_grid(tmp_path, **changes), "--dry-run"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"error: {field}:" in err
+    assert f"(did you mean {hint}?)" in err
+    with pytest.raises(ConfigError, match=r"did you mean"):        # the library says it too
+        _spec(**changes)
+
+
+def test_no_did_you_mean_when_nothing_is_close_and_scene_fields_belong_under_scene(tmp_path):
+    with pytest.raises(ConfigError) as ei:
+        _spec(zzz=1)
+    assert "did you mean" not in str(ei.value) and "output, scene" in str(ei.value)
+    with pytest.raises(ConfigError, match="n_side is a scene field: write it under scene:"):
+        _spec(n_side=4)
+
+
 def test_cli_usage_errors_exit_2(tmp_path):
     for args in ([], ["report", "x.h5"], ["status", str(tmp_path / "none.h5")],
                  ["export", str(tmp_path / "none.h5"), "--csv", "o.csv"], ["run", "--bogus"],
@@ -100,6 +137,48 @@ def test_dry_run_writes_nothing(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "16 jobs" in out and "core-hours" in out
     assert os.listdir(tmp_path) == ["grid.yaml"]
+
+
+def test_dry_run_after_editing_the_grid_refuses_as_the_run_does(tmp_path, capsys):
+    """An output written from another grid: the run refuses and asks for --extend (exit 2), so
+    the dry run says the same and exits 2; with --extend both go ahead."""
+    one = {**TINY, "k_tilde": [1], "sigma_tilde": [0.3], "F_P": [0.3], "seeds": 1}
+    grid = write_grid(tmp_path, one)
+    assert main([grid, "--no-progress"]) == 0
+    write_grid(tmp_path, {**one, "k_tilde": [1, 0.01]})          # the user edits the grid
+    capsys.readouterr()
+    assert main([grid, "--dry-run"]) == 2
+    dry = capsys.readouterr()
+    assert dry.out == "" and dry.err.count("\n") == 1 and "--extend" in dry.err
+    before = sorted(os.listdir(tmp_path))
+    assert main([grid, "--no-progress"]) == 2                       # the run: the same line
+    assert capsys.readouterr().err == dry.err
+    assert sorted(os.listdir(tmp_path)) == before
+    assert main([grid, "--dry-run", "--extend"]) == 0
+    assert "1 done, 0 failed, 1 to run" in capsys.readouterr().out
+
+
+def test_a_fifo_is_refused_at_once_in_one_line(tmp_path, capsys):
+    """A FIFO where a campaign file is read (the output, a file given to a reader) is one line
+    at once, not a 'damaged HDF5 structure' after the reader's 15 s stall guard."""
+    import time
+
+    from fibril_hpc import StoreError, load_campaign
+
+    fifo = tmp_path / "x.h5"
+    os.mkfifo(fifo)
+    grid = write_grid(tmp_path, output="x.h5")
+    for extra in (["--dry-run"], ["--no-progress"]):
+        t = time.monotonic()
+        assert main([grid, *extra]) == 2
+        err = capsys.readouterr().err
+        assert time.monotonic() - t < 10 and err.count("\n") == 1, err
+        assert "output" in err and "FIFO" in err and "damaged" not in err
+    t = time.monotonic()
+    with pytest.raises(StoreError, match="FIFO"):
+        load_campaign(str(fifo))
+    assert time.monotonic() - t < 10
+    assert sorted(os.listdir(tmp_path)) == ["grid.yaml", "x.h5"]
 
 
 def test_dry_run_model_follows_preloads_preset_and_grid():
@@ -173,3 +252,41 @@ def test_a_million_jobs_is_the_cap_and_a_bad_value_is_still_named():
               F_P=[0.1 * (i + 1) for i in range(10)], seeds=10)
     with pytest.raises(ConfigError, match="k_tilde"):      # each axis value still checked
         _spec(k_tilde=[1, 0.01, -3])
+
+
+def test_keys_of_axes_equal_a_json_document_and_hash_per_job():
+    import itertools
+
+    from fibril_hpc.campaign.plan.keys import key_of_fields, keys_of_axes
+
+    template = {"n_side": 6, "F_P": [1.0], "k_tilde": 1.0, "seed": 0, "sigma_tilde": 0.3,
+                "solver": {"cg_tol": 1e-9}, "preset": "fast", "tip": "sphere"}
+    names = ("k_tilde", "sigma_tilde", "seed", "F_P")
+    values = [[1.0, 0.1, float("inf")], [0.3, 1e-7], [0, 1, 2**40], [[0.3], [1.0], [2.5]]]
+    want = []
+    for combo in itertools.product(*values):
+        want.append(key_of_fields({**template, **dict(zip(names, combo))}))
+    assert keys_of_axes(template, names, values) == want
+    assert keys_of_axes(template, names, [[1.0], [], [0], [[1.0]]]) == []
+
+
+@pytest.mark.slow
+def test_dry_run_of_a_million_jobs_is_lean(tmp_path):
+    """10^6 jobs, one per loading path: the dry run took 87 s and 1.7 GB (a Scene per path,
+    a JSON document and a hash per key); benchmarks/NOTES.md has the numbers."""
+    import subprocess
+    import sys
+
+    grid = write_grid(tmp_path, output="m.h5", k_tilde=[10.0 ** -i for i in range(10)],
+                      sigma_tilde=[0.1 * (i + 1) for i in range(10)],
+                      F_P=[0.1 * (i + 1) for i in range(100)], seeds=100, group_preloads=False)
+    code = ("import resource, sys, time; from fibril_hpc.cli.campaign import main; "
+            f"rc = main([{grid!r}, '--dry-run']); "
+            "u = resource.getrusage(resource.RUSAGE_SELF); "
+            "print('RUSAGE', rc, u.ru_maxrss, u.ru_utime + u.ru_stime)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert "1000000 jobs" in r.stdout and "1000000 to run in 1000000 simulate calls" in r.stdout
+    rc, maxrss_kb, cpu_s = r.stdout.split("RUSAGE")[1].split()
+    assert rc == "0" and int(maxrss_kb) < 900_000, r.stdout      # 1.7 GB before
+    assert float(cpu_s) < 60.0, r.stdout

@@ -78,6 +78,41 @@ def test_closed_pipe_is_quiet(cmd):
     assert r.returncode == 0, r.stderr
 
 
+def _cpu_s(pid: int) -> float:
+    with open(f"/proc/{pid}/stat") as fh:
+        f = fh.read().rsplit(")", 1)[1].split()
+    return (int(f[11]) + int(f[12])) / os.sysconf("SC_CLK_TCK")      # utime + stime
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/stat"), reason="needs /proc (Linux)")
+def test_ctrl_c_on_fibril_run_is_one_line_and_75(tmp_path):
+    """Ctrl-C on fibril-run: one line and exit 75, as fibril-campaign gives, no traceback, no
+    --out file (half-written or not)."""
+    import signal
+    import time
+
+    out = tmp_path / "r.h5"
+    p = subprocess.Popen([os.path.join(BIN, "fibril-run"), "--builtin", "default", "--no-progress",
+                          "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True, cwd=tmp_path,
+                         # a test run in the background (nohup, `&`) inherits SIGINT ignored
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        deadline = time.monotonic() + 120
+        while _cpu_s(p.pid) < 2.0 and p.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.1)              # past the imports (0.6 s CPU): inside the simulation
+        p.send_signal(signal.SIGINT)
+        _, err = p.communicate(timeout=60)
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    assert p.returncode == 75, err
+    assert "Traceback" not in err and err.count("\n") == 1, err
+    assert err.startswith("fibril-run: interrupted (SIGINT)")
+    assert os.listdir(tmp_path) == []
+
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHIPPED = {"demo": "campaigns/demo.yaml", "paper": "campaigns/paper.yaml",
            "finite_size": "campaigns/finite_size.yaml",
@@ -108,6 +143,7 @@ def test_example_list_unknown_and_output_file(tmp_path, capsys):
     assert main(["example", "demo", "-o", str(out)]) == 2       # never over an existing file
 
 
+@pytest.mark.slow
 def test_the_wheel_ships_the_examples(tmp_path):
     """`pip install fibril-hpc` alone is enough: the built wheel holds every grid and script,
     byte for byte, scripts executable."""

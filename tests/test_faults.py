@@ -116,6 +116,7 @@ def test_1_free_space_is_checked_before_the_copy(tmp_path, monkeypatch, capsys):
     assert "disk full during checkpoint copy" in msg and "bytes needed, 1000 free" in msg
 
 
+@pytest.mark.slow
 def test_1_cli_full_disk_exits_75_in_one_line_then_resumes(tmp_path):
     grid = write_grid(tmp_path)
     r = run([grid, "--no-progress", "--checkpoint-s", "0"], cwd=tmp_path,
@@ -148,6 +149,7 @@ MPIRUN = shutil.which("mpirun", path=os.path.dirname(sys.executable)) or shutil.
 
 @pytest.mark.mpi
 @pytest.mark.skipif(MPIRUN is None, reason="no mpirun on PATH (pip install '.[mpi]')")
+@pytest.mark.slow
 def test_2_journal_append_full_under_mpi_exits_75_no_hang(tmp_path):
     pytest.importorskip("mpi4py")
     from campaign_helpers import campaign_cmd
@@ -315,6 +317,7 @@ def test_6_zeroed_block_one_line_and_salvage(finished, tmp_path, frac, capsys, c
 
 
 # ------------------------------------------------------------------ 7: foreign journal frames
+@pytest.mark.slow
 def test_7_foreign_and_keyless_frames_are_refused(finished, tmp_path):
     out = copy_of(finished, tmp_path)
     rec = dict(load_campaign(out).jobs[0], type="job", key="ffffffffffffffff",
@@ -350,6 +353,7 @@ def tiny_tmpfs(tmp_path):
         subprocess.run(["umount", "-l", str(mnt)], capture_output=True, timeout=30)
 
 
+@pytest.mark.slow
 def test_real_full_tmpfs_interrupts_then_resumes_after_space_is_freed(tiny_tmpfs):
     grid = write_grid(tiny_tmpfs, group_preloads=False, seeds=4)        # 32 jobs
     filler = tiny_tmpfs / "filler"

@@ -253,6 +253,7 @@ def test_reattachment_load_unload_reload():
 
 
 # -- meshes ------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_fine_mesh_single_pillar():
     """The finest grid CI affords in seconds: ~48 elements per diameter (1829 elements in the
     footprint): Kendall within 1 %, punch stiffness within 1 % from below."""

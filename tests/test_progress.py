@@ -83,6 +83,24 @@ def test_campaign_lines_when_not_a_terminal():
     assert "\r" not in log.getvalue()
 
 
+def test_campaign_line_counts_the_jobs_running(tmp_path, capsys):
+    """"N running" is the jobs being computed: a serial run's line, printed as a task of two
+    preloads starts, says 2 running; the line that closes the run says 0."""
+    from campaign_helpers import write_grid
+
+    from fibril_hpc.cli.campaign import main
+
+    grid = write_grid(tmp_path, k_tilde=[1], sigma_tilde=[0.3], seeds=1)    # 1 task, 2 jobs
+    assert main([grid]) == 0
+    lines = [x for x in capsys.readouterr().err.splitlines() if " jobs (" in x]
+    assert lines[0].startswith("fibril-campaign: 0/2 jobs (0 done, 0 failed, 2 running; "), lines
+    assert lines[-1].startswith("fibril-campaign: 2/2 jobs (2 done, 0 failed, 0 running; "), lines
+    p = Progress(4, 2, stream=io.StringIO(), every_s=0.0)
+    p.set_running(3)
+    p.update([{"status": "done"}])                # the count of running jobs is kept
+    assert "1 done, 0 failed, 3 running" in p.line()
+
+
 @pytest.mark.skipif(shutil.which("script") is None, reason="script(1) not installed")
 def test_fibril_run_draws_a_bar_on_a_pseudo_terminal(tmp_path):
     exe = os.path.join(os.path.dirname(sys.executable), "fibril-run")

@@ -94,6 +94,7 @@ grids = st.fixed_dictionaries({
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(grid=grids, kinds=st.lists(st.sampled_from(KINDS), min_size=1, max_size=4),
        rng_seed=st.integers(0, 3))
+@pytest.mark.slow
 def test_any_campaign_is_read_without_a_traceback(tmp_path_factory, grid, kinds, rng_seed):
     tmp = tmp_path_factory.mktemp("prop")
     g = dict(grid, output="p.h5", scene={"n_side": 2, "preset": "fast"})
@@ -103,6 +104,7 @@ def test_any_campaign_is_read_without_a_traceback(tmp_path_factory, grid, kinds,
 @settings(max_examples=6, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(grid=grids, kinds=st.lists(st.sampled_from(KINDS), min_size=1, max_size=3))
+@pytest.mark.slow
 def test_any_campaign_gets_every_figure_and_both_pages(tmp_path_factory, grid, kinds):
     tmp = tmp_path_factory.mktemp("propfig")
     path = _write(tmp, dict(grid, output="p.h5", scene={"n_side": 2}), kinds)
@@ -121,6 +123,7 @@ def test_a_campaign_with_every_job_failed_gets_a_page_that_says_so(tmp_path):
 
 
 @pytest.mark.parametrize("name", sorted(n for n in os.listdir(CAMPAIGNS) if n.endswith(".yaml")))
+@pytest.mark.slow
 def test_the_shipped_grids_are_reported(tmp_path, name):
     with open(os.path.join(CAMPAIGNS, name)) as fh:
         grid = yaml.safe_load(fh)

@@ -72,6 +72,7 @@ def _alone(folder, grid, **values):
 TABLES = ("plateau.csv", "coefficients.csv", "alpha_beta.csv")
 
 
+@pytest.mark.slow
 def test_the_report_reads_the_first_variant_alone_and_says_so(tmp_path):
     path = _synthetic(tmp_path, GRID)
     write_report(path, str(tmp_path / "rep"), n_boot=40)
@@ -92,6 +93,7 @@ def test_the_report_reads_the_first_variant_alone_and_says_so(tmp_path):
     assert "tip_radius = 0.5" in html and "Not read: tip_radius = 4" in html
 
 
+@pytest.mark.slow
 def test_while_the_first_variant_has_no_done_job_the_first_that_has_is_read(tmp_path):
     path = _synthetic(tmp_path, GRID, keep=lambda e: e["tip_radius"] == 4)
     write_report(path, str(tmp_path / "rep"), n_boot=40)
@@ -102,6 +104,7 @@ def test_while_the_first_variant_has_no_done_job_the_first_that_has_is_read(tmp_
     assert "No other variant has done jobs in the file." in page
 
 
+@pytest.mark.slow
 def test_where_reads_another_variant(tmp_path, capsys):
     path = _synthetic(tmp_path, GRID)
     out = tmp_path / "rep4"
@@ -207,6 +210,7 @@ def _run(folder, grid):
     return spec.output
 
 
+@pytest.mark.slow
 def test_a_real_swept_campaign_reads_each_variant_as_its_own_grid(tmp_path):
     path = _run(tmp_path, REAL)
     for r in RADII:

@@ -29,8 +29,10 @@ def test_bad_fields_name_the_field_and_range(field, value, snippet):
 
 
 def test_unknown_keys_and_options_rejected():
-    with pytest.raises(ConfigError, match="^k_tlide"):
+    with pytest.raises(ConfigError, match=r"^k_tlide: .*\(did you mean 'k_tilde'\?\)"):
         scene_from_dict({"k_tlide": 1})
+    with pytest.raises(ConfigError, match=r"^K_TILDE: .*\(did you mean 'k_tilde'\?\)"):
+        scene_from_dict({"K_TILDE": 1})
     with pytest.raises(ConfigError, match="^solver.cg_tolerance"):
         scene_from_dict({"solver": {"cg_tolerance": 1e-3}})
     with pytest.raises(ConfigError, match="^solver.cg_tol"):

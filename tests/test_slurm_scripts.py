@@ -22,10 +22,13 @@ pytestmark = pytest.mark.skipif(not os.path.exists(os.path.join(BIN, "mpirun")),
 
 
 def _fake_bin(folder, mpirun_exit=None):
-    """A folder with a recording `scontrol` (and, if asked, an `mpirun` that fails at once)."""
+    """A folder with a recording `scontrol` and a `fibril-campaign` that records its arguments
+    before it runs the real one (and, if asked, an `mpirun` that fails at once)."""
     fake = folder / "fakebin"
     fake.mkdir()
-    tools = {"scontrol": f'echo "$@" >> {folder}/scontrol.log\n'}
+    real = os.path.join(BIN, "fibril-campaign")
+    tools = {"scontrol": f'echo "$@" >> {folder}/scontrol.log\n',
+             "fibril-campaign": f'echo "$@" >> {folder}/campaign.log\nexec {real} "$@"\n'}
     if mpirun_exit is not None:
         tools["mpirun"] = f"exit {mpirun_exit}\n"
     for name, body in tools.items():
@@ -68,6 +71,7 @@ def _records(path):
         return 0
 
 
+@pytest.mark.slow
 def test_a_killed_worker_rank_is_resumed_by_requeue(tmp_path):
     grid = write_grid(tmp_path, {**TINY, "scene": {**TINY["scene"], "n_side": 3}},
                       group_preloads=False, seeds=6)                        # 48 jobs
@@ -109,3 +113,7 @@ def test_a_failure_without_progress_is_not_requeued(tmp_path):
     assert r.returncode == 9, r.stdout + r.stderr
     assert "finished no job in this run: not resuming" in r.stderr
     assert not (tmp_path / "scontrol.log").exists()
+    # one dry run per job step (a 10^6-job grid's took 87 s); the counts after it come from
+    # `status` of the file it named
+    calls = (tmp_path / "campaign.log").read_text().splitlines()
+    assert sum("--dry-run" in c for c in calls) == 1, calls

@@ -402,6 +402,7 @@ def _limited(limit_bytes):
     return pre
 
 
+@pytest.mark.slow
 def test_9_memory_guards_under_rlimit_as(tmp_path):
     grid = write_grid(tmp_path, output="big.h5", k_tilde=1, sigma_tilde=0.3, F_P=1.0, seeds=1,
                       scene=BIG)

@@ -144,6 +144,14 @@ def test_campaign_in_physical_units_has_si_columns_and_netcdf(tmp_path):
     assert campaign_main(["export", str(tmp_path / "p.h5"), "--netcdf", str(nc)]) == 0
     back = xr.open_dataset(nc, engine="h5netcdf").load()
     assert back.identical(ds)
+    csv = tmp_path / "p.csv"          # CSV keeps the SI columns too, in the DataFrame's order
+    assert campaign_main(["export", str(tmp_path / "p.h5"), "--csv", str(csv)]) == 0
+    import pandas as pd
+
+    back_csv = pd.read_csv(csv)
+    assert list(back_csv.columns) == list(df.columns)
+    for name in ("F_A_N", "k_N_per_m", "sigma_m", "F_c_N", "d_at_F_A_m"):
+        assert np.array_equal(back_csv[name].to_numpy(), df[name].to_numpy(), equal_nan=True)
     one = ds.sel(k_tilde=ds.k_tilde[0], sigma_tilde=ds.sigma_tilde[0], seed=0, preload=1.0)
     n = int(one["unloading_n_points"])
     assert np.isfinite(one["unloading_F_tilde"][:n]).all()

@@ -11,7 +11,7 @@ from ..accuracy.study import run_one
 from ..errors import EXIT_FAILED, EXIT_OK, EXIT_USAGE, ConfigError
 from ..io.files import check_output_folder, write_text_atomically
 from ..io.results import software_versions
-from .common import Parser, add_version, error, memory_guard, pipe_safe
+from .common import Parser, add_version, error, interruptible, memory_guard, pipe_safe
 
 PROG = "fibril-accuracy"
 #: the files written into --out
@@ -19,6 +19,7 @@ OUTPUTS = ("accuracy.csv", "accuracy.md", "pareto.png")
 
 
 @pipe_safe
+@interruptible(PROG, "the finished rows are in --out's accuracy.csv; rerun with --resume")
 @memory_guard(PROG)
 def main(argv=None) -> int:
     """``fibril-accuracy``; returns the exit status."""

@@ -24,7 +24,7 @@ from ..errors import (
     UnknownLayoutError,
 )
 from ..io.files import check_output_folder, check_writable
-from .common import OUT_OF_MEMORY, Parser, add_version, error, pipe_safe, setup_logging
+from .common import OUT_OF_MEMORY, Parser, add_version, error, interruptible, pipe_safe, setup_logging
 
 ON_CONFLICT = ("refuse", "first", "last")
 UNCHECKED_HELP = ("also take records without a checksum (nothing vouches for them: written "
@@ -44,7 +44,9 @@ def _parser() -> Parser:
     r.add_argument("grid", help="campaign grid YAML")
     r.add_argument("--output", metavar="FILE.h5",
                    help="output file (default: the grid's 'output', relative to its folder)")
-    r.add_argument("--dry-run", action="store_true", help="print jobs and estimated cost; run nothing")
+    r.add_argument("--dry-run", action="store_true",
+                   help="print jobs and estimated cost, or refuse as the run would (exit 2); "
+                        "run nothing")
     r.add_argument("--retry-failed", action="store_true", help="rerun jobs recorded as failed")
     r.add_argument("--extend", action="store_true",
                    help="accept an output file written from another grid and add this grid's jobs")
@@ -127,6 +129,8 @@ def _parser() -> Parser:
 
 
 @pipe_safe
+@interruptible(PROG, "files are written whole or not at all; rerun the same command (a run "
+               "resumes)")         # a run handles its own stop signals (campaign.run.control)
 def main(argv=None) -> int:
     """``fibril-campaign``; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -201,6 +205,9 @@ def cmd_run(args) -> int:
     comm = connect(serial=args.serial)
     rank = 0 if comm is None else comm.Get_rank()
     if args.dry_run:
+        from ..campaign.storage.writer import check_output
+
+        check_output(spec, args.extend)   # what the run would refuse, the dry run refuses
         if rank == 0:
             _print_plan(spec, args.retry_failed)
         return EXIT_OK
@@ -224,7 +231,7 @@ def _print_plan(spec, retry_failed: bool) -> None:
         print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
               f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
               f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds{swept}), "
-              f"{len(spec.tasks())} loading paths")
+              f"{spec.n_tasks()} loading paths")
     else:
         a = spec.auto
         print(f"campaign {spec.campaign_hash[:12]}: F_P auto, {len(spec.paths())} loading paths "
@@ -234,7 +241,7 @@ def _print_plan(spec, retry_failed: bool) -> None:
               f"up to {a.rounds - 1} more rounds until {a.below} preloads lie below the kink and "
               f"{a.above} above it (the counts and cost below are round 0's)")
     print(f"output {spec.output}: {pl.done} done, {pl.failed} failed, {len(pl.to_run)} to run "
-          f"in {len(pl.tasks)} simulate calls")
+          f"in {pl.n_tasks} simulate calls")
     sizes = "" if len(spec.n_sides) < 2 else (
         f"n_side {', '.join(map(str, spec.n_sides))}; the largest: ")
     print(f"grid: {sizes}{spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "

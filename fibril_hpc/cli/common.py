@@ -10,7 +10,8 @@ import sys
 
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
 
-__all__ = ["Parser", "error", "setup_logging", "memory_guard", "pipe_safe", "one_line",
+__all__ = ["Parser", "error", "setup_logging", "memory_guard", "pipe_safe", "interruptible",
+           "one_line",
            "versions_text", "add_version", "OUT_OF_MEMORY", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE",
            "EXIT_INTERRUPTED"]
 
@@ -127,6 +128,25 @@ def memory_guard(prog: str):
                 return main(*args, **kwargs)
             except MemoryError:
                 return error(prog, OUT_OF_MEMORY, EXIT_USAGE)
+        return guarded
+    return wrap
+
+
+def interruptible(prog: str, what: str):
+    """Decorate a command's ``main``: Ctrl-C (SIGINT, a KeyboardInterrupt anywhere in it) ends
+    the command with one line on stderr, ``prog: interrupted (SIGINT); what``, and exit status
+    :data:`EXIT_INTERRUPTED` (75, as an interrupted campaign), instead of a traceback and 130.
+    ``what`` says what the user has and what to do (files are written atomically: whole or not
+    at all)."""
+
+    def wrap(main):
+        @functools.wraps(main)
+        def guarded(*args, **kwargs):
+            try:
+                return main(*args, **kwargs)
+            except KeyboardInterrupt:
+                print(one_line(f"{prog}: interrupted (SIGINT); {what}"), file=sys.stderr)
+                return EXIT_INTERRUPTED
         return guarded
     return wrap
 

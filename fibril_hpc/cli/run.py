@@ -8,7 +8,7 @@ import sys
 
 from .._version import __version__
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, ConfigError, DiskFull, StoreError
-from .common import Parser, error, memory_guard, pipe_safe, setup_logging, versions_text
+from .common import Parser, error, interruptible, memory_guard, pipe_safe, setup_logging, versions_text
 
 PROG = "fibril-run"
 
@@ -48,6 +48,8 @@ def _human(result) -> str:
 
 
 @pipe_safe
+@interruptible(PROG, "no file half-written (--out and --plot appear whole or not at all); "
+               "rerun the same command to run the scene again")
 @memory_guard(PROG)
 def main(argv=None) -> int:
     """``fibril-run``: simulate one scene; returns the exit status."""

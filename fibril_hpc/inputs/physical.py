@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..errors import ConfigError
+from ..errors import ConfigError, unknown_key
 from ..geometry.grid import Lattice
 from .ranges import Real
 
@@ -99,7 +99,7 @@ def parse(block, *, where: str = "") -> dict:
     out = {}
     for key, v in block.items():
         if key not in RANGES:
-            raise ConfigError(f"{name}.{key}", v, "a known key: " + ", ".join(RANGES))
+            raise unknown_key(f"{name}.{key}", v, RANGES)
         out[key] = RANGES[key].check(f"{name}.{key}", v)
     pairs = (("E_star", ("E", "nu")), ("k", ("pillar_length", "pillar_modulus")))
     for one, two in pairs:

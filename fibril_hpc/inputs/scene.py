@@ -13,7 +13,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from ..errors import ConfigError
+from ..errors import ConfigError, unknown_key
 from ..geometry import tips as _tips
 from ..geometry.grid import LATTICES, MAX_N_SIDE, n_side_of
 from ..solve.coarse import MAX_PILLARS
@@ -184,8 +184,8 @@ class Scene:
         if self.solver is None or isinstance(self.solver, dict):
             bad = sorted(set(self.solver or {}) - set(SOLVER_FIELDS))
             if bad:
-                raise ConfigError(f"solver.{bad[0]}", self.solver[bad[0]],
-                                  "a known option: " + ", ".join(SOLVER_FIELDS))
+                raise unknown_key(f"solver.{bad[0]}", self.solver[bad[0]], SOLVER_FIELDS,
+                                  "a known option")
             set_("solver", SolverOptions(**{**pv["solver"], **(self.solver or {})}))
         if self.d_tilde is not None and self.F_P is not None:
             raise ConfigError("F_P", self.F_P, "give either d_tilde or F_P, not both")
@@ -294,8 +294,7 @@ def scene_from_dict(data: dict, *, where: str = "") -> Scene:
         raise ConfigError(where.rstrip(".") or "scene", data, "a mapping of scene fields")
     unknown = sorted(set(data) - set(SCENE_FIELDS))
     if unknown:
-        raise ConfigError(where + str(unknown[0]), data[unknown[0]],
-                          "a known field: " + ", ".join(SCENE_FIELDS))
+        raise unknown_key(where + str(unknown[0]), data[unknown[0]], SCENE_FIELDS, "a known field")
     kwargs = dict(data)
     solver = kwargs.pop("solver", None)     # a mapping overrides the preset's knobs key by key
     if solver is not None and not isinstance(solver, (dict, SolverOptions)):

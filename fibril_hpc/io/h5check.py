@@ -18,6 +18,9 @@ Nothing here follows an object reference or recurses; the callers read a fixed l
 
 from __future__ import annotations
 
+import os
+import stat
+
 import h5py
 import numpy as np
 
@@ -41,6 +44,29 @@ Dataset = h5py.Dataset
 class ForeignError(StoreError):
     """The object or its data lives outside the file (external link, external storage, virtual
     dataset, soft link): nothing in this file vouches for it."""
+
+
+#: what a path that is not a regular file is (``stat`` mode test -> words)
+_KINDS = ((stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"),
+          (stat.S_ISDIR, "a folder"))
+
+
+def check_regular_file(path: str) -> None:
+    """Refuse, at once and in one :class:`StoreError` line, a ``path`` that exists and is not a
+    regular file (after symlinks): a FIFO, a device, a socket or a folder, which libhdf5 would
+    block on or read as a damaged file. A missing path passes (the callers say what that
+    means)."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return
+    except OSError as exc:
+        raise StoreError(f"cannot open {path}: {exc.strerror}") from None
+    if not stat.S_ISREG(mode):
+        what = next((w for test, w in _KINDS if test(mode)), "not a file")
+        raise StoreError(f"{path}: {what}, not a regular file: an HDF5 file is read from a "
+                         "regular file")
 
 
 def open_file(path: str) -> h5py.File:
@@ -207,6 +233,6 @@ def read_attrs(obj) -> dict:
     return {k: read_attr(obj, k) for k in attr_names(obj)}
 
 
-__all__ = ["Group", "Dataset", "ForeignError", "open_file", "describe", "link_kind", "member", "names",
-           "check_dataset", "read_dataset", "read_attr", "read_attrs", "MAX_ELEMENTS",
-           "MAX_TEXT", "FLOAT", "INT", "NUMBER"]
+__all__ = ["Group", "Dataset", "ForeignError", "check_regular_file", "open_file", "describe",
+           "link_kind", "member", "names", "check_dataset", "read_dataset", "read_attr",
+           "read_attrs", "MAX_ELEMENTS", "MAX_TEXT", "FLOAT", "INT", "NUMBER"]

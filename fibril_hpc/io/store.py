@@ -281,6 +281,7 @@ def read_result_file(path: str) -> SimulationResult:
     >>> r = read_result_file("out.h5")                  # doctest: +SKIP
     >>> r.main.F_A, r.main.unloading.F_tilde            # doctest: +SKIP
     """
+    h5check.check_regular_file(path)   # a FIFO, device or folder: one line at once, no stall
     return isolate.run_isolated(_read_result_file, path, what=path)
 
 

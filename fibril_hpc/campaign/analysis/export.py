@@ -1,7 +1,8 @@
 """Export of a campaign, one row per job with the columns of
 :data:`fibril_hpc.campaign.storage.record.COLUMNS` (then ``n_side`` when the brush size is an
 axis of the file: :attr:`~.data.CampaignData.n_side_swept`, then one per swept lab field:
-:attr:`~.data.CampaignData.lab_sweeps`): CSV
+:attr:`~.data.CampaignData.lab_sweeps`, then, for a grid in physical units, the SI columns
+of :data:`~.si.SI_COLUMNS`, as :meth:`~.data.CampaignData.to_dataframe` has them): CSV
 (no extra dependency) and Parquet (pandas + pyarrow: the ``report`` extra); and the whole
 campaign, curves included, as netCDF (xarray + h5netcdf: the ``netcdf`` extra)."""
 
@@ -15,6 +16,7 @@ from ...io.files import write_bytes_atomically, write_text_atomically
 from ..storage.record import COLUMNS
 from .data import load_campaign
 from .dataset import netcdf_available, to_xarray
+from .si import has_units, si_columns
 
 
 def _csv_value(v):
@@ -29,13 +31,15 @@ def export_csv(path: str, out: str, include_unchecked: bool = False) -> int:
     Records without a checksum are left out unless ``include_unchecked``."""
     c = load_campaign(path, curves=False, include_unchecked=include_unchecked)
     cols = COLUMNS + (("n_side",) if c.n_side_swept else ())
-    lab = {n: c.lab_column(n) for n in c.lab_sweeps}
+    extra = {n: c.lab_column(n) for n in c.lab_sweeps}
+    if has_units(c.meta):              # N, m, N/m beside the normalised columns, as Parquet has
+        extra.update({n: v.tolist() for n, v in si_columns(c.jobs).items()})
     buf = io.StringIO(newline="")
     w = csv.writer(buf)
-    w.writerow(cols + tuple(lab))
+    w.writerow(cols + tuple(extra))
     for i, j in enumerate(c.jobs):
         w.writerow([_csv_value(j.get(col)) for col in cols]
-                   + [_csv_value(v[i]) for v in lab.values()])
+                   + [_csv_value(v[i]) for v in extra.values()])
     write_text_atomically(out, buf.getvalue(), "writing the CSV export")
     return len(c.jobs)
 

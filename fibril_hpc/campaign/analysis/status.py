@@ -106,7 +106,9 @@ class Plan:
     done: int
     failed: int
     to_run: set
-    tasks: list
+    #: simulate calls (loading paths) the run would make, and how many of them per brush size
+    n_tasks: int
+    sizes: dict
     fft_pair_s: float
     fft_size: int
     elements_per_pillar: int
@@ -121,6 +123,10 @@ def plan(spec, retry_failed: bool = False) -> Plan:
     size when there are any (a grid that sweeps ``n_side`` mixes brushes whose jobs differ in
     cost by 100x and more), else the cost model of :mod:`fibril_hpc.campaign.plan.estimate`,
     scaled by the measured/model ratio at the largest size that has finished jobs.
+
+    Lean on a large grid: the tasks are counted and priced without building them (their scenes),
+    and the model is evaluated once per distinct (brush size, preloads), which is all a task's
+    modelled cost depends on (:func:`~fibril_hpc.campaign.plan.estimate.task_pairs`).
     """
     jobs = spec.jobs if spec.auto is None else [    # F_P: auto: its round 0 only
         j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
@@ -142,35 +148,80 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                 failed += k in todo
                 if not retry_failed:
                     todo.discard(k)
-    if spec.auto is None:
-        tasks = spec.tasks(todo)
-    else:
-        tasks = [spec.auto_task(p, [j.preload for j in t.jobs if j.key in todo])
-                 for p in spec.paths()
-                 for t in [spec.auto_task(p, spec.auto.start)]
-                 if any(j.key in todo for j in t.jobs)]
     timed = {n: fft_pair_seconds(spec.base if n == spec.base.n_side else
                                  spec.base.replace(n_side=n)) for n in spec.n_sides}
     if len(spec.n_sides) == 1 and None in walls:    # records naming no size: the grid's own
         walls.setdefault(spec.n_sides[0], []).extend(walls.pop(None))
-    est, modelled = 0.0, []
-    for t in tasks:
-        n = t.scene.n_side
+    model = _Model(spec, timed)
+    sizes: dict = {}            # n_side -> tasks to run
+    measured: dict = {}         # n_side -> jobs to run priced by that size's finished jobs
+    modelled: dict = {}         # model key -> tasks of the sizes that have no finished job
+    for js, scene in _task_jobs(spec, todo):
+        n = _n_side(spec, js)
+        sizes[n] = sizes.get(n, 0) + 1
         if walls.get(n):
-            est += sum(walls[n]) / len(walls[n]) * len(t.jobs)
+            measured[n] = measured.get(n, 0) + len(js)
         else:
-            modelled.append(t)
-    scale, ref = _calibration(spec, walls, timed) if modelled else (1.0, None)
-    est += scale * sum(task_seconds(t.scene, timed[t.scene.n_side][0], timed[t.scene.n_side][2])
-                       for t in modelled)
+            key = model.key(js, n, scene)
+            modelled[key] = modelled.get(key, 0) + 1
+    est = sum(sum(walls[n]) / len(walls[n]) * jobs for n, jobs in measured.items())
+    scale, ref = _calibration(spec, walls, model) if modelled else (1.0, None)
+    est += scale * sum(model.seconds(key) * count for key, count in modelled.items())
+    n_tasks = sum(sizes.values())
     pair_s, m, epp = timed[max(timed)]           # the largest brush's (the base scene's)
-    how = _how(sum(len(w) for w in walls.values()), {t.scene.n_side for t in modelled},
+    how = _how(sum(len(w) for w in walls.values()), {key[0] for key in modelled},
                len(spec.n_sides) > 1, scale, ref)
-    return Plan(done=done, failed=failed, to_run=todo, tasks=tasks, fft_pair_s=pair_s,
-                fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how)
+    return Plan(done=done, failed=failed, to_run=todo, n_tasks=n_tasks, sizes=sizes,
+                fft_pair_s=pair_s, fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how)
 
 
-def _calibration(spec, walls: dict, timed: dict) -> tuple:
+def _task_jobs(spec, keys=None):
+    """(jobs, scene or None) of each task of ``spec`` with a job in ``keys`` (all when None):
+    a fixed grid's without building their scenes, an ``F_P: auto`` grid's round 0."""
+    if spec.auto is None:
+        for js in spec.task_jobs(keys):
+            yield js, None
+        return
+    for p in spec.paths():
+        t = spec.auto_task(p, spec.auto.start)
+        if keys is None:
+            yield t.jobs, t.scene
+        elif any(j.key in keys for j in t.jobs):
+            t = spec.auto_task(p, [j.preload for j in t.jobs if j.key in keys])
+            yield t.jobs, t.scene
+
+
+def _n_side(spec, js) -> int:
+    extra = js[0].extra
+    return dict(extra).get("n_side", spec.base.n_side) if extra else spec.base.n_side
+
+
+class _Model:
+    """The modelled CPU seconds of a task, evaluated once per (brush size, preloads): what
+    :func:`~fibril_hpc.campaign.plan.estimate.task_seconds` reads of a task's scene besides the
+    base scene's preset."""
+
+    def __init__(self, spec, timed: dict):
+        self.spec, self.timed = spec, timed
+        self.scenes: dict = {}
+        self.cache: dict = {}
+
+    def key(self, js, n: int, scene=None) -> tuple:
+        """The model's key of the task running ``js`` (its scene kept for :meth:`seconds`)."""
+        key = (n, (js[0].preload,) if len(js) == 1 else tuple(j.preload for j in js))
+        if key not in self.scenes:
+            self.scenes[key] = scene if scene is not None else self.spec.task_scene(js)
+        return key
+
+    def seconds(self, key) -> float:
+        """Modelled CPU seconds of one task of ``key``."""
+        if key not in self.cache:
+            pair_s, _, epp = self.timed[key[0]]
+            self.cache[key] = task_seconds(self.scenes[key], pair_s, epp)
+        return self.cache[key]
+
+
+def _calibration(spec, walls: dict, model: _Model) -> tuple:
     """(measured / modelled cost per job, n_side) at the largest brush size of a grid sweeping
     n_side that has finished jobs, to scale the model of its sizes that have none; (1.0, None)
     without one. The model's own growth with the brush is kept, its level taken from the file."""
@@ -178,15 +229,14 @@ def _calibration(spec, walls: dict, timed: dict) -> tuple:
     if len(spec.n_sides) < 2 or not measured:
         return 1.0, None
     ref = max(measured)
-    if spec.auto is None:
-        tasks = [t for t in spec.tasks() if t.scene.n_side == ref]
-    else:
-        tasks = [spec.auto_task(p, spec.auto.start) for p in spec.paths() if p[3] == ref]
-    model = sum(task_seconds(t.scene, timed[ref][0], timed[ref][2]) for t in tasks)
-    jobs = sum(len(t.jobs) for t in tasks)
-    if model <= 0.0 or not jobs:
+    total = jobs = 0
+    for js, scene in _task_jobs(spec):
+        if _n_side(spec, js) == ref:
+            total += model.seconds(model.key(js, ref, scene))
+            jobs += len(js)
+    if total <= 0.0 or not jobs:
         return 1.0, None
-    return sum(walls[ref]) / len(walls[ref]) / (model / jobs), ref
+    return sum(walls[ref]) / len(walls[ref]) / (total / jobs), ref
 
 
 def _how(n_walls: int, modelled: set, swept: bool, scale: float = 1.0, ref=None) -> str:

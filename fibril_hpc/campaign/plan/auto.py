@@ -38,7 +38,7 @@ import json
 import math
 from dataclasses import asdict, dataclass
 
-from ...errors import ConfigError
+from ...errors import ConfigError, unknown_key
 from ..laws.fit import DEFAULT_LAW, fit_law
 from ..laws.reading import path_plateau_reached
 
@@ -80,7 +80,7 @@ def parse(value) -> AutoPreloads:
         raise ConfigError("F_P.auto", cfg, "a mapping of " + ", ".join(FIELDS))
     unknown = sorted(set(map(str, cfg)) - set(FIELDS))
     if unknown:
-        raise ConfigError(f"F_P.auto.{unknown[0]}", cfg[unknown[0]], "one of " + ", ".join(FIELDS))
+        raise unknown_key(f"F_P.auto.{unknown[0]}", cfg[unknown[0]], FIELDS, "a setting")
     d = AutoPreloads().to_dict()
     d.update(cfg)
 

@@ -51,6 +51,54 @@ def key_of_fields(d: dict) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
+def keys_of_axes(template: dict, names, values) -> list:
+    """The job keys of every combination of the values of the axes ``names`` (a product, the
+    first axis outermost), each the :func:`key_of_fields` of ``template`` with the axes set to
+    the combination's entries (``values[a][i]``: the key-field entry of axis a's value i).
+
+    Equal to calling :func:`key_of_fields` per combination, but the canonical JSON is written
+    once with a marker per axis and each entry is put in as its JSON text, and the SHA-256 of
+    the text before each axis's entry is shared by every combination below it (copies of a
+    hash state): about 1 us a key, where a JSON document and a hash each took 25 us."""
+    names = list(names)
+    marks = {n: f"@@fibril-axis-{i}@@" for i, n in enumerate(names)}
+    text = json.dumps({**template, **marks}, sort_keys=True, allow_nan=True)
+    places = sorted((text.index(f'"{m}"'), n) for n, m in marks.items())
+    if text.count("@@fibril-axis-") != len(names) or \
+            any(text.count(f'"{m}"') != 1 for m in marks.values()):
+        raise ValueError("an axis marker occurs in the template")        # never in a scene
+    pieces, at = [], 0
+    for pos, n in places:                        # text = p0 v_a p1 v_b ... p_last
+        pieces.append(text[at:pos].encode())
+        at = pos + len(marks[n]) + 2
+    tail = text[at:].encode()
+    order = [names.index(n) for _, n in places]  # the axes in the order their entries appear
+    texts = [[json.dumps(v, allow_nan=True).encode() for v in values[a]] for a in order]
+    sizes = [len(values[a]) for a in range(len(names))]
+    strides = [1] * len(names)                   # index of a combination in product order
+    for a in range(len(names) - 2, -1, -1):
+        strides[a] = strides[a + 1] * sizes[a + 1]
+    out = [""] * (strides[0] * sizes[0])
+
+    def fill(level, state, base):
+        a = order[level]
+        nxt = pieces[level + 1] if level + 1 < len(pieces) else tail
+        if level == len(order) - 1:
+            for i, t in enumerate(texts[level]):
+                h = state.copy()
+                h.update(t + nxt)
+                out[base + i * strides[a]] = h.hexdigest()[:16]
+            return
+        for i, t in enumerate(texts[level]):
+            h = state.copy()
+            h.update(t + nxt)
+            fill(level + 1, h, base + i * strides[a])
+
+    if all(sizes):
+        fill(0, hashlib.sha256(pieces[0]), 0)
+    return out
+
+
 def job_key(scene: Scene) -> str:
     """Stable key of a single-preload scene: fields at their default value are left out, so a
     field added to Scene later (with a default) does not change existing keys."""

@@ -22,7 +22,7 @@ from __future__ import annotations
 import os
 from dataclasses import fields
 
-from ...errors import ConfigError
+from ...errors import ConfigError, unknown_key
 from ...inputs.heights import is_file as is_height_file
 from ...inputs.heights import read_file as read_height_file
 from ...inputs.ranges import range_of
@@ -67,7 +67,7 @@ def parse_sweep(v) -> dict:
     out = {}
     for name, values in v.items():
         if name not in SWEEPABLE:
-            raise ConfigError(f"sweep.{name}", values, "a sweepable field: " + ", ".join(SWEEPABLE))
+            raise unknown_key(f"sweep.{name}", values, SWEEPABLE, "a sweepable field")
         if name == "n_side":
             out[name] = _n_side_values(values)
             continue

@@ -111,6 +111,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
             r = idle.popleft()
             busy[r] = queue.popleft()
             comm.send(("task", busy[r]), dest=r, tag=TAG_TASK)
+        prog.set_running(_jobs(busy))
         status = MPI.Status()
         stop_since = None
         while busy:
@@ -123,7 +124,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
                 elif full is None or isinstance(full, PublishedFileChanged):
                     try:
                         writer.add(recs)        # after a PublishedFileChanged: journal only
-                        prog.update(recs, running=len(busy))
+                        prog.count(recs)
                     except Interruption as exc:  # stop handing out (a full disk: jobs in
                         full, stop.stop = full or exc, True    # flight are lost)
                     else:
@@ -135,6 +136,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
                     r = idle.popleft()
                     busy[r] = queue.popleft()
                     comm.send(("task", busy[r]), dest=r, tag=TAG_TASK)
+                prog.set_running(_jobs(busy))
                 continue
             if stop.stop:
                 if stop_since is None:
@@ -151,7 +153,7 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
                     writer.checkpoint()
                 except Interruption as exc:
                     full, stop.stop = exc, True
-        prog.show(force=True)
+        prog.set_running(_jobs(busy), force=True)   # 0, or the jobs the grace period gave up
         prog.finish()
         if stop.stop or queue:
             code = EXIT_INTERRUPTED
@@ -184,6 +186,11 @@ def _serve(comm, spec, writer, retry_failed, progress, grace_s) -> int:
         sys.stderr.flush()
         comm.Abort(EXIT_INTERRUPTED)
     return code
+
+
+def _jobs(busy: dict) -> int:
+    """Jobs in flight: those of every task handed out to a worker and not yet back."""
+    return sum(len(t.jobs) for t in busy.values())
 
 
 def run_worker(comm) -> int:

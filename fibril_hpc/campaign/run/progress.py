@@ -41,14 +41,26 @@ class Progress:
         self._total = value
         self.bar.set_total(value)
 
-    def update(self, records, running: int = 0, force: bool = False):
-        """Count finished ``records`` (one task's), note the running tasks, maybe redraw."""
+    def count(self, records) -> None:
+        """Count finished ``records`` (one task's) without redrawing."""
         for r in records:
             if r["status"] == "done":
                 self.done += 1
             else:
                 self.failed += 1
-        self.running = running
+
+    def set_running(self, jobs: int, force: bool = False) -> None:
+        """Note the jobs being computed now (those of every task handed out and not yet
+        back), maybe redraw."""
+        self.running = jobs
+        self.show(force)
+
+    def update(self, records, running: int | None = None, force: bool = False):
+        """Count finished ``records`` (one task's), note the running jobs (unchanged when
+        None), maybe redraw."""
+        self.count(records)
+        if running is not None:
+            self.running = running
         self.show(force)
 
     def counts(self) -> str:

@@ -71,6 +71,7 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
                 break
             task = tasks.popleft()
             n += 1
+            prog.set_running(len(task.jobs))      # the line, when due, as this task starts
             try:
                 recs = execute_task(task, spec.campaign_hash, ops, 0, stop)
             except Interrupted:
@@ -85,10 +86,10 @@ def run_serial(spec, *, extend=False, retry_failed=False, checkpoint_s=30.0, pro
             more = planner.after(task, recs)      # F_P: auto: the path's next round
             tasks.extend(more)
             prog.total += sum(len(t.jobs) for t in more)
-            prog.update(recs, running=0)
+            prog.count(recs)
         interrupted = interrupted or stop.stop
         partial = bool(tasks)
-        prog.show(force=True)
+        prog.set_running(0, force=True)
         prog.finish()
     finally:
         stop.busy = False

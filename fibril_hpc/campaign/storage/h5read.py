@@ -40,7 +40,9 @@ def damaged_error(path: str, exc) -> DamagedFileError:
 
 def read_root(path: str) -> dict:
     """Root attributes of a campaign file (StoreError if it is not one). Read in a child
-    process that cannot hang the caller (:mod:`fibril_hpc.io.isolate`)."""
+    process that cannot hang the caller (:mod:`fibril_hpc.io.isolate`); a FIFO, device or
+    folder is refused at once."""
+    h5check.check_regular_file(path)
     return isolate.run_isolated(_read_root, path, what=path)
 
 
@@ -148,6 +150,7 @@ def read_h5_checked(path: str, curves: bool = True, tolerant: bool = False) -> H
     (:mod:`fibril_hpc.io.isolate`)."""
     if not os.path.exists(path):
         return H5Read()
+    h5check.check_regular_file(path)   # a FIFO, device or folder: one line at once, no stall
     return isolate.run_isolated(_read_h5_checked, path, curves, tolerant, what=path)
 
 

@@ -44,6 +44,46 @@ def _check_single_name(path: str) -> None:
                           "under another name); copy it to a new name, or remove the other links")
 
 
+def check_output(spec, extend: bool = False) -> list:
+    """Whether a run of ``spec`` may write its output file, checked as the writer checks it
+    before anything is written (and as ``--dry-run`` checks it, so that a dry run says what the
+    run will do): a writable place, a file with one name, and a file (or a journal) of this
+    grid, or of another one only with ``extend``. Returns the ``extended_from`` history the
+    file will carry; a refusal is a one-line :class:`ConfigError` of field ``output``."""
+    path = os.path.realpath(spec.output)
+    check_writable(path, "output")
+    _check_single_name(path)
+    if os.path.exists(path):
+        try:
+            root = store.read_root(path)
+        except StoreError as exc:
+            raise ConfigError("output", path,
+                              f"a fibril-hpc campaign file or a new name ({exc})") from None
+        prev = root.get("campaign_hash")
+        history = []
+        try:
+            history = json.loads(root.get("extended_from", "[]"))
+        except ValueError:
+            history = []
+        if prev != spec.campaign_hash:
+            if not extend:
+                raise ConfigError(
+                    "output", path,
+                    f"a file of this grid: it holds campaign {str(prev)[:12]} from another grid"
+                    f" (this grid is {spec.campaign_hash[:12]}); pass --extend to add "
+                    "this grid's jobs to it, or choose another output")
+            history.append({"campaign_hash": prev, "campaign_yaml": root.get("campaign_yaml")})
+        return history
+    jrecs, _ = _journal.read(_journal.journal_path(path))
+    hashes = {r.get("campaign_hash") for r in jrecs if r.get("type") == "job"}
+    other = hashes - {spec.campaign_hash} if hashes else set()   # the hash sorts every key
+    if other and not extend:
+        raise ConfigError("output", path,
+                          "a file of this grid: its journal holds records of another grid; "
+                          "pass --extend to keep them")
+    return []
+
+
 class CampaignWriter:
     """The only writer of a campaign file: lock, identity check, journal replay, checkpoints.
 
@@ -62,9 +102,7 @@ class CampaignWriter:
         # the same lock, and a checkpoint replaces the file, not the symlink
         self.path = os.path.realpath(spec.output)
         self.checkpoint_s = checkpoint_s
-        check_writable(self.path, "output")
-        _check_single_name(self.path)
-        extended_from = self._check_identity(extend)   # before anything is written
+        extended_from = check_output(spec, extend)     # before anything is written
         self._lock_fd = os.open(self.path + ".lock", os.O_RDWR | os.O_CREAT, 0o644)
         try:
             fcntl.flock(self._lock_fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -131,37 +169,6 @@ class CampaignWriter:
             log.warning("%s: %d corrupt record(s) (%s%s) will be recomputed; they were not "
                         "republished", self.path, len(corrupt), ", ".join(corrupt[:3]),
                         " ..." if len(corrupt) > 3 else "")
-
-    def _check_identity(self, extend: bool):
-        if os.path.exists(self.path):
-            try:
-                root = store.read_root(self.path)
-            except StoreError as exc:
-                raise ConfigError("output", self.path,
-                                  f"a fibril-hpc campaign file or a new name ({exc})") from None
-            prev = root.get("campaign_hash")
-            history = []
-            try:
-                history = json.loads(root.get("extended_from", "[]"))
-            except ValueError:
-                history = []
-            if prev != self.spec.campaign_hash:
-                if not extend:
-                    raise ConfigError(
-                        "output", self.path,
-                        f"a file of this grid: it holds campaign {str(prev)[:12]} from another grid"
-                        f" (this grid is {self.spec.campaign_hash[:12]}); pass --extend to add "
-                        "this grid's jobs to it, or choose another output")
-                history.append({"campaign_hash": prev, "campaign_yaml": root.get("campaign_yaml")})
-            return history
-        jrecs, _ = _journal.read(_journal.journal_path(self.path))
-        hashes = {r.get("campaign_hash") for r in jrecs if r.get("type") == "job"}
-        other = hashes - {self.spec.campaign_hash}
-        if other and not extend:
-            raise ConfigError("output", self.path,
-                              "a file of this grid: its journal holds records of another grid; "
-                              "pass --extend to keep them")
-        return []
 
     def _remember(self, rec):
         old = self.records.get(rec["key"])
@@ -298,4 +305,4 @@ def _remove_if_empty(path: str) -> None:
         pass
 
 
-__all__ = ["CampaignWriter"]
+__all__ = ["CampaignWriter", "check_output"]
