@@ -42,6 +42,9 @@ def test_readme_names_the_full_test_run_ci_runs_and_the_quick_one():
     ci = _read(".ci/run")
     assert re.search(r"^pytest -q$", ci, re.M)                   # CI: the full run
     assert "`pytest -q`" in readme and '`pytest -q -m "not slow"`' in readme
+    # the quick start's test command is CI's, exactly
+    quick = re.search(r'pip install "\.\[test[\w,]*\]" && (pytest[^#\n]*?)\s*#', readme).group(1)
+    assert quick == "pytest -q"
     opts = tomllib.loads(_read("pyproject.toml"))["tool"]["pytest"]["ini_options"]
     assert "-m" not in opts["addopts"].split()        # a bare `pytest -q` deselects nothing
     assert any(m.startswith("slow:") for m in opts["markers"])

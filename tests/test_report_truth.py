@@ -99,6 +99,7 @@ def _coverage(n_seeds, draws, rng):
     return hit / draws
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n_seeds", [3, 10])
 def test_the_seed_interval_of_c_holds_the_truth_at_the_rate_it_claims(n_seeds):
     # the widened interval held the truth in 90-97 % of 120-150 draws (benchmarks/NOTES.md);
