@@ -47,6 +47,16 @@ def say(ax, text):
             wrap=True, color="0.25", bbox={"fc": "0.95", "ec": "0.7"})
 
 
+def colour(i: int, n: int):
+    """The i-th of n line colours: matplotlib's ten-colour cycle up to ten, a viridis ramp above
+    (the cycle would repeat: two k~ of the paper grid's eleven shared blue)."""
+    if n <= 10:
+        return f"C{i % 10}"
+    from matplotlib import colormaps
+
+    return colormaps["viridis"](0.92 * i / max(n - 1, 1))
+
+
 def err(val, ci):
     """Asymmetric error bar lengths (0 where the interval is unknown or unbounded)."""
     lo, hi = ci
@@ -87,15 +97,16 @@ def curves(jobs, out_dir, name="curves.png"):
 
 
 def _rise_lines(ax, g, col, linear):
-    """The plateau (dashed, over the preloads it was read from) and, on linear axes, the chord
-    of c over the first half of the rise; on log axes the c0 line over the first decade."""
+    """The plateau (dashed, over the preloads it was read from) and, on linear axes, the line
+    F~_A = c F~_P through the origin and the half point; on log axes the c0 line over the first
+    decade."""
     r = g.reading
     if math.isfinite(r.plateau) and math.isfinite(r.plateau_from):
         ax.hlines(r.plateau, r.plateau_from, ax.get_xlim()[1] if linear else r.plateau_from * 8,
                   colors=col, linestyles="--", lw=1)
     if linear and math.isfinite(r.c) and r.c > 0 and math.isfinite(r.F_P_half):
-        xs = np.array([r.F_P0, r.F_P0 + (r.plateau - r.F_A0) / r.c])
-        ax.plot(xs, r.F_A0 + r.c * (xs - r.F_P0), ":", color=col, lw=1.2)
+        xs = np.array([0.0, r.plateau / r.c])      # through the origin and the half point
+        ax.plot(xs, r.c * xs, ":", color=col, lw=1.2)
     if not linear and math.isfinite(r.c0) and r.c0 > 0 and r.F_P0 > 0:
         xs = np.array([r.F_P0, r.F_P0 * 10])
         ax.plot(xs, r.c0 * xs, ":", color=col, lw=1.2)
@@ -103,7 +114,7 @@ def _rise_lines(ax, g, col, linear):
 
 def fa_vs_fp(data, out_dir, name="FA_vs_FP.png"):
     """F~_A against F~_P per k~: linear axes (the paper's) and log-log; seed means, bars the
-    seed range, dashed the plateau, dotted the c chord (linear) and the c0 line (log)."""
+    seed range, dashed the plateau, dotted the line c F~_P (linear) and the c0 line (log)."""
     ks = list(data.studies)
     nrow = max(len(ks), 1)
     fig, axes = subplots(nrow, 2, figsize=(12, 3.9 * nrow), squeeze=False)
@@ -123,7 +134,7 @@ def fa_vs_fp(data, out_dir, name="FA_vs_FP.png"):
                 if not keep.any():
                     continue
                 drawn = True
-                col = f"C{i % 10}"
+                col = colour(i, len(groups))
                 yerr = np.clip(np.vstack([y - lv.lo, lv.hi - y]), 0, None)[:, keep]
                 state = g.reading.plateau_state
                 ax.errorbar(x[keep], y[keep], yerr=yerr, fmt="o-", ms=3.5, lw=0.8, capsize=2,
@@ -141,9 +152,9 @@ def fa_vs_fp(data, out_dir, name="FA_vs_FP.png"):
                 ax.set_xscale("log")
                 ax.set_yscale("log")
             for i, g in enumerate(groups):
-                _rise_lines(ax, g, f"C{i % 10}", linear)
+                _rise_lines(ax, g, colour(i, len(groups)), linear)
             legend(ax, ncol=1 if len(groups) < 6 else 2)
-        row[0].set_title(f"{KT} = {k:g}: linear axes (as the paper); dotted: the c chord",
+        row[0].set_title(f"{KT} = {k:g}: linear axes (as the paper); dotted: {FA} = c {FP}",
                          fontsize=10)
         row[1].set_title(f"{KT} = {k:g}: log axes; dotted: first-contact slope c$_0$",
                          fontsize=10)

@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from ..laws.alphabeta import model as ab_model
-from .figures import FA, KT, SIG, err, legend, save, say, subplots
+from .figures import FA, KT, SIG, colour, err, legend, save, say, subplots
 
 
 def _ab_label(k, st) -> str:
@@ -25,46 +25,46 @@ def _ab_label(k, st) -> str:
 
 
 def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
-    """c against sigma~, linear and log-log, seed intervals, with the fitted lines (solid: fitted
-    within the seed scatter; dotted: poor fit; none where alpha and beta are undefined). Filled
-    circles: in the fit; open: left out; triangles: a rise not resolved (c is at least there);
-    crosses: adhesion lost (c = 0)."""
-    fig, (a1, a2) = subplots(1, 2, figsize=(12, 4.8))
+    """c against sigma~: left c sigma~ against sigma~ on linear axes, where the law is the
+    straight line alpha - beta sigma~ (intercept alpha, slope -beta, zero at sigma~_c); right c
+    against sigma~ log-log. Seed intervals; lines: solid fitted within the seed scatter, dotted
+    poor fit, none where alpha and beta are undefined. Filled circles: in the fit; open: left
+    out; triangles: a rise not resolved (c is at least there); crosses: adhesion lost (c = 0)."""
+    fig, (a1, a2) = subplots(1, 2, figsize=(13, 5.2))
     drawn = False
     zeros = []
     bounds = []
+    n = len(data.studies)
     for i, (k, st) in enumerate(data.studies.items()):
-        col = f"C{i % 10}"
+        col = colour(i, n)
         gs = [g for g in st.groups if g.sigma_tilde > 0]
         res = [g for g in gs if g.reading.state == "rise resolved" and math.isfinite(g.reading.c)]
-        labelled = False
+        label = _ab_label(k, st)
         for ax in (a1, a2):
+            scale = (lambda g: g.sigma_tilde) if ax is a1 else (lambda g: 1.0)
             for infit, mfc in ((True, col), (False, "none")):
                 sel = [g for g in res if g.in_fit == infit and (ax is a1 or g.reading.c > 0)]
                 if not sel:
                     continue
                 drawn = True
-                lab = None
-                if ax is a1 and not labelled:
-                    lab, labelled = _ab_label(k, st), True
-                ax.errorbar([g.sigma_tilde for g in sel], [g.reading.c for g in sel],
-                            yerr=np.array([err(g.reading.c, g.c_ci) for g in sel]).T, fmt="o",
-                            ms=5, capsize=2, color=col, mfc=mfc, label=lab)
+                ax.errorbar([g.sigma_tilde for g in sel], [g.reading.c * scale(g) for g in sel],
+                            yerr=np.array([err(g.reading.c, g.c_ci) for g in sel]).T
+                            * np.array([scale(g) for g in sel]), fmt="o", ms=5, capsize=2,
+                            color=col, mfc=mfc, label=label if ax is a1 else None)
+                label = None
             ub = [g for g in gs if g.reading.state == "rise not resolved"
                   and math.isfinite(g.reading.c_lower) and g.reading.c_lower > 0]
             if ub:
                 drawn = True
-                ax.plot([g.sigma_tilde for g in ub], [g.reading.c_lower for g in ub], "^",
-                        ms=7, color=col, mfc="none",
-                        label=None if labelled or ax is a2 else _ab_label(k, st))
-                labelled = labelled or ax is a1
-                bounds += [g.reading.c_lower for g in ub]
+                ax.plot([g.sigma_tilde for g in ub], [g.reading.c_lower * scale(g) for g in ub],
+                        "^", ms=7, color=col, mfc="none", label=label if ax is a1 else None)
+                label = None if ax is a1 else label
+                bounds += [g.reading.c_lower for g in ub] if ax is a2 else []
         lost = [g for g in gs if g.reading.state == "adhesion lost"]
         if lost:
             drawn = True
             a1.plot([g.sigma_tilde for g in lost], [0.0] * len(lost), "x", ms=7, color=col,
-                    label=None if labelled else _ab_label(k, st))
-            labelled = True
+                    label=label)
         zeros += [(g.sigma_tilde, col) for g in lost]
         a = st.ab
         if a.ok and st.status != "undefined":
@@ -72,7 +72,8 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
             sg = np.geomspace(lo / 1.3, hi * 1.3, 300)
             fit = ab_model(sg, a.alpha, a.beta)
             ls = ":" if st.status == "poor fit" else "-"
-            a1.plot(sg, fit, ls, color=col, lw=1.2)
+            lin = np.linspace(0, hi * 1.15, 200)
+            a1.plot(lin, np.maximum(a.alpha - a.beta * lin, 0.0), ls, color=col, lw=1.2)
             pos = fit > 0
             a2.plot(sg[pos], fit[pos], ls, color=col, lw=1.2)
     if not drawn:
@@ -80,6 +81,7 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
             say(ax, "no c to draw: no (k̃, σ̃ > 0) whose rise could be read")
     else:
         a1.axhline(0, color="0.6", lw=0.5)
+        a1.set_xlim(left=0)
         a2.set_xscale("log")
         a2.set_yscale("log")
         cpos = [g.reading.c for st in data.studies.values() for g in st.groups
@@ -88,16 +90,16 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
         if cpos:                    # the cut line dives to 0 at sigma~_c: keep the data in view
             a2.set_ylim(min(cpos) / 5, max(cpos) * 3)
         for s, col in zeros:
-            a2.annotate("c = 0", (s, 0), xycoords=("data", "axes fraction"), xytext=(0, 8),
-                        textcoords="offset points", ha="center", fontsize=8, color=col,
-                        arrowprops={"arrowstyle": "->", "color": col})
-        legend(a1, loc="upper right")
-    for ax in (a1, a2):
-        ax.set_xlabel(f"roughness {SIG}")
-        ax.set_ylabel("adhesion coefficient c (eq. 15: slope through the origin)")
-    a1.set_title(f"c = max(α/{SIG} − β, 0): solid fitted, dotted poor fit; open: not in the fit;"
-                 " △ rise not resolved (c ≥); × adhesion lost", fontsize=8)
-    a2.set_title("log–log (c > 0; arrows: c = 0, adhesion lost)", fontsize=10)
+            a2.annotate("", (s, 0), xycoords=("data", "axes fraction"), xytext=(0, 14),
+                        textcoords="offset points", arrowprops={"arrowstyle": "->", "color": col})
+        legend(a1, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    a1.set_xlabel(f"roughness {SIG}")
+    a2.set_xlabel(f"roughness {SIG}")
+    a1.set_ylabel(f"c · {SIG} (the law: α − β{SIG}, zero at {SIG}$_c$)")
+    a2.set_ylabel("adhesion coefficient c (eq. 15, slope through the origin)")
+    a1.set_title("c·σ̃: solid fitted, dotted poor fit; open: not in the fit; △ rise not resolved "
+                 "(c ≥); × adhesion lost", fontsize=8)
+    a2.set_title("c, log–log (arrows: adhesion lost, c = 0)", fontsize=10)
     fig.tight_layout()
     return save(fig, out_dir, name)
 
@@ -113,7 +115,8 @@ def c0_vs_sigma(data, out_dir, name="c0_vs_sigma.png"):
             drawn = True
             ax.errorbar([g.sigma_tilde for g in sel], [g.reading.c0 for g in sel],
                         yerr=np.array([err(g.reading.c0, g.c0_ci) for g in sel]).T, fmt="s-",
-                        ms=5, lw=1, capsize=2, color=f"C{i % 10}", label=f"{KT}={k:g}")
+                        ms=5, lw=1, capsize=2, color=colour(i, len(data.studies)),
+                        label=f"{KT}={k:g}")
     if drawn:
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -139,7 +142,7 @@ def plateau(data, out_dir, name="plateau.png"):
             say(ax, "no plateau to draw: no done job with finite forces")
     for i, k in enumerate(ks):
         gs = [g for g in data.studies[k].groups if math.isfinite(g.reading.plateau)]
-        col = f"C{i % 10}"
+        col = colour(i, len(ks))
         if gs:
             a1.plot([g.sigma_tilde for g in gs], [g.reading.plateau for g in gs], "-", color=col,
                     lw=1)
@@ -156,7 +159,8 @@ def plateau(data, out_dir, name="plateau.png"):
         if pts:
             a2.errorbar([k for k, _ in pts], [g.reading.plateau for _, g in pts],
                         yerr=np.array([err(g.reading.plateau, g.plateau_ci) for _, g in pts]).T,
-                        fmt="o-", ms=5, capsize=2, lw=1, color=f"C{i % 10}", label=f"{SIG}={s:g}")
+                        fmt="o-", ms=5, capsize=2, lw=1, color=colour(i, len(sigmas)),
+                        label=f"{SIG}={s:g}")
     if allg:
         pos = [g.reading.plateau for g in allg]
         if min(pos) > 0 and max(pos) / min(pos) > 10:
@@ -232,13 +236,11 @@ def _sigma_c_panel(ax, data) -> bool:
     for k, st in data.studies.items():
         lo, hi = st.ab.bracket
         if math.isfinite(lo) and math.isfinite(hi):
-            ax.plot([k, k], [lo, hi], "-", color="0.6", lw=6, alpha=0.6,
-                    label="data bracket" if not drawn else None)
+            ax.plot([k, k], [lo, hi], "-", color="0.6", lw=6, alpha=0.6)
             drawn = True
-        elif math.isfinite(lo):
-            ax.annotate("", (k, lo * 1.6), xytext=(k, lo),
-                        arrowprops={"arrowstyle": "->", "color": "0.5"})
-            ax.plot([k], [lo], "_", color="0.5", ms=10)
+        elif math.isfinite(lo):         # no sigma~ lost adhesion: sigma~_c above the largest
+            ax.plot([k], [lo], "^", color="0.5", ms=7, mfc="none",
+                    label=f"{SIG}$_c$ > the largest {SIG} run" if not drawn else None)
             drawn = True
         if st.sigma_c_status in ("measured", "pinned") and math.isfinite(st.ab.sigma_c):
             pinned = st.sigma_c_status == "pinned"
@@ -247,5 +249,7 @@ def _sigma_c_panel(ax, data) -> bool:
             drawn = True
     if drawn:
         ax.set_yscale("log")
-    ax.set_title(f"{SIG}$_c$: grey the data bracket; ● α/β measured, ○ pinned", fontsize=9)
+        legend(ax)
+    ax.set_title(f"{SIG}$_c$: grey the data bracket (△ above it); ● α/β measured, ○ pinned",
+                 fontsize=9)
     return drawn
