@@ -24,7 +24,7 @@ from ..laws import fit as _fit
 from ..laws.intervals import dominant, preset_bias
 from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED, levels, pillar_floor
 from ..laws.size import DIFFERS, WITHIN, size_rows
-from ..laws.study import N_BOOT, study
+from ..laws.study import N_BOOT, beta_is_zero, study
 from .variants import Variant, select
 
 #: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
@@ -234,6 +234,11 @@ def headline(d: ReportData) -> list:
     else:
         lines.append(f"alpha and beta fitted within the seed scatter for none of the "
                      f"{len(d.studies)} k~.")
+    flat = [k for k in by["fitted"] if beta_is_zero(d.studies[k])]
+    if flat:
+        lines.append("beta is consistent with 0 for k~ = " + ks(f"{k:g}" for k in flat)
+                     + ": only alpha is determined there (c falls as alpha/sigma~), and no "
+                     "sigma~_c.")
     if by["poor fit"]:
         lines.append("POOR FIT (c = alpha/sigma~ - beta does not describe c within the seed "
                      "scatter; alpha and beta shown for orientation only) for k~ = "
@@ -275,7 +280,9 @@ def headline(d: ReportData) -> list:
                      "lower bound and stays out of the fit (the coefficients table says which "
                      "preload would resolve it).")
     if states.get(LOST):
-        lines.append(f"{states[LOST]} (k~, sigma~) have lost adhesion (c = 0, a measurement).")
+        lines.append(f"{states[LOST]} (k~, sigma~) have lost adhesion (a plateau within "
+                     f"{FEW_PILLARS:g} pillars' pull-off: c = 0 by that threshold, weighted in "
+                     "the fit by the secant its few pillars draw).")
     dom: dict = {}
     for st in d.studies.values():
         for g in st.groups:

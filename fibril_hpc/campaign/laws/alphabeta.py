@@ -132,7 +132,8 @@ def fit_alpha_beta(sigma, c, sd=None) -> ABFit:
         notes.append(f"alpha = {alpha:.3g} <= 0: c does not fall as 1/sigma~; sigma~_c not "
                      "defined")
     if zero.any():
-        notes.append(f"{int(zero.sum())} sigma~ with c = 0 (F~_A does not rise) in the fit")
+        notes.append(f"{int(zero.sum())} sigma~ with c = 0 (adhesion lost: a plateau within a "
+                     "few pillars' pull-off) in the fit")
     return ABFit(alpha, beta, sigma_c, float(se[0]), float(se[1]), int(s.size),
                  int(zero.sum()), tuple(float(v) for v in s), tuple(float(v) for v in r),
                  chi2_red, poor, weighted, bracket, notes)

@@ -8,7 +8,8 @@ the seed mean of F~_P and of F~_A, the seed standard deviation of F~_A and the s
 A level whose every seed gave exactly the F~_P and F~_A of the next level (the first contact
 overshoots a small preload: both were reached in the same event) is the same point and is
 merged into it. A level holding fewer seeds than the group is flagged (``thin``): its mean is
-not comparable with the others', and it never sets the plateau alone.
+over other seeds, not comparable with the others', so it is shown but not read (while at least
+two full levels remain).
 
 **Plateau** (the preload-insensitive F~_A). From the largest preload down, a level joins the
 plateau set while its F~_A is not below the mean of the set by more than the *scatter
@@ -25,7 +26,8 @@ preload ("plateau not reached": the value is F~_A there, a lower bound).
 * *adhesion lost*: the plateau is at most ``FEW_PILLARS`` (3) pillars' pull-off
   (``FEW_PILLARS * floor``): F~_A stays at the last few pillars' pull-off at every preload (it may
   creep from one pillar to two or three, but there is no linear stage: F~_A = c F~_P needs many
-  pillars in contact). c = c0 = 0, a measurement.
+  pillars in contact). c = c0 = 0 by this threshold; where F~_A creeps, the secant through its
+  half point (``c_res``) is the uncertainty of that zero in the alpha/beta fit.
 * *rise not resolved*: F~_A at the smallest preload reached is already at half the plateau or
   more (``F~_A,0 >= P/2``: every level in the plateau set is the extreme case) and above the
   few-pillar floor. The linear stage lies below the smallest preload, so c is only bounded:
@@ -62,6 +64,7 @@ floor it is a ratio that grows as the preload shrinks, and the reading says so.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -110,6 +113,11 @@ class Levels:
 
     def __len__(self):
         return int(self.F_P.size)
+
+    def subset(self, keep) -> Levels:
+        """The levels where ``keep`` is true (same order)."""
+        keep = np.asarray(keep, dtype=bool)
+        return Levels(*(getattr(self, f.name)[keep] for f in dataclasses.fields(self)))
 
     @property
     def thin(self) -> np.ndarray:
@@ -284,6 +292,14 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
                        ["no finite F~_P, F~_A"], floor=floor, n_seeds=n_seeds)
     notes: list = []
     c_notes: list = []
+    seeds = tuple(int(v) for v in lv.n)
+    thin = [i for i in range(len(lv)) if lv.thin[i]]
+    if thin:
+        notes.append(f"{len(thin)} level(s) with fewer seeds than the group's {int(lv.n.max())} "
+                     "(F~_P = " + ", ".join(f"{lv.F_P[i]:.3g}: {lv.n[i]}" for i in thin)
+                     + "): shown, not read (a seed mean over other seeds is not comparable)")
+        if len(lv) - len(thin) >= 2:
+            lv = lv.subset(~lv.thin)
     s = plateau_set(lv, n_seeds)
     full = np.flatnonzero(~lv.thin)
     top = int(full[-1]) if full.size else len(lv) - 1
@@ -291,12 +307,6 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
     P = float(np.mean(lv.F_A[members]))
     top_lo, top_hi = float(lv.lo[top]), float(lv.hi[top])
     x0, y0 = float(lv.F_P[0]), float(lv.F_A[0])
-    seeds = tuple(int(v) for v in lv.n)
-    thin = [i for i in range(len(lv)) if lv.thin[i]]
-    if thin:
-        notes.append(f"{len(thin)} level(s) with fewer seeds than the group's {int(lv.n.max())} "
-                     "(F~_P = " + ", ".join(f"{lv.F_P[i]:.3g}: {lv.n[i]}" for i in thin)
-                     + "): not compared with the full levels, never the plateau alone")
     base = dict(floor=floor, seeds=seeds, n_seeds=n_seeds)
     if len(lv) == 1:
         why = ["one preload level: no rise or plateau can be read"]
@@ -324,11 +334,16 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
     asked = float(np.min(asked[np.isfinite(asked)])) if np.isfinite(asked).any() else nan
     overshot = asked > 0 and x0 > OVERSHOOT * asked         # merged levels keep the larger
     if math.isfinite(floor) and P <= few:
+        # c = 0 by the threshold; the secant the few pillars draw is how uncertain that zero is
+        xw, _ = _crossing(lv, 0.5 * P) if y0 < 0.5 * P else (x0, 0)
+        c_would = 0.5 * P / xw if math.isfinite(xw) and xw > 0 else nan
         notes.append(f"adhesion lost: plateau F~_A = {P:.3g}, within {FEW_PILLARS:g} pillars' "
-                     f"pull-off ({few:.3g}; one pillar: {floor:.3g})")
+                     f"pull-off ({few:.3g}; one pillar: {floor:.3g})"
+                     + (f"; it creeps from {y0:.3g} (a secant of {c_would:.3g} through its half "
+                        "point, the uncertainty of c = 0 in the fit)" if y0 < 0.5 * P else ""))
         return Reading(P, plateau_state, x0, int(members.size), 0.0, 0.0, x0, y0, nan, c_detect,
                        len(lv), 0, top_lo, top_hi, notes, list(notes), state=LOST, c_stage=0.0,
-                       c_chord=0.0, **base)
+                       c_chord=0.0, c_res=c_would if y0 < 0.5 * P else nan, **base)
     y_half = 0.5 * P
     if y0 >= y_half or s == 0:
         c_lower = y0 / x0 if x0 > 0 else nan

@@ -138,9 +138,10 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     if reps is not None:
         for i, g in enumerate(groups):
             r, n_s = g.reading, g.n_seeds
-            g.plateau_ci = expanded(r.plateau, percentile_interval(reps[3 * i]), n_s)
-            g.c_ci = expanded(r.c, percentile_interval(reps[3 * i + 1]), n_s)
-            g.c0_ci = expanded(r.c0, percentile_interval(reps[3 * i + 2]), n_s)
+            # non-negative numbers: the widened interval stops at 0
+            g.plateau_ci = _nonneg(expanded(r.plateau, percentile_interval(reps[3 * i]), n_s))
+            g.c_ci = _nonneg(expanded(r.c, percentile_interval(reps[3 * i + 1]), n_s))
+            g.c0_ci = _nonneg(expanded(r.c0, percentile_interval(reps[3 * i + 2]), n_s))
             g.c_sd = replicate_sd(reps[3 * i + 1])
         method = f"bootstrap over {len(labels)} seeds ({reps.shape[1]} resamples)"
     else:
@@ -169,7 +170,7 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     n_l = len(labels)
     st.alpha_ci = expanded(ab.alpha, percentile_interval(ab_reps[0]), n_l)
     st.beta_ci = expanded(ab.beta, percentile_interval(ab_reps[1]), n_l)
-    st.sigma_c_ci = expanded(ab.sigma_c, percentile_interval(ab_reps[2]), n_l)
+    st.sigma_c_ci = _nonneg(expanded(ab.sigma_c, percentile_interval(ab_reps[2]), n_l))
     if ab.poor:
         st.alpha_ci = (min(st.alpha_ci[0], cov_a[0]), max(st.alpha_ci[1], cov_a[1]))
         st.beta_ci = (min(st.beta_ci[0], cov_b[0]), max(st.beta_ci[1], cov_b[1]))
@@ -180,12 +181,21 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     return judge(st)
 
 
+def _nonneg(ci: tuple) -> tuple:
+    return tuple(max(v, 0.0) if math.isfinite(v) else v for v in ci)
+
+
 def _consistent_with_zero(value: float, ci: tuple) -> bool:
     """The value is at or below 0, or its interval reaches 0 (an undefined interval says
     nothing: only the value is judged)."""
     if not math.isfinite(value) or value <= 0:
         return True
     return math.isfinite(ci[0]) and ci[0] <= 0
+
+
+def beta_is_zero(st: KStudy) -> bool:
+    """beta is at or below 0 or its interval reaches 0: only alpha is determined."""
+    return _consistent_with_zero(st.ab.beta, st.beta_ci)
 
 
 def judge(st: KStudy) -> KStudy:
@@ -222,8 +232,9 @@ def judge(st: KStudy) -> KStudy:
                           f"by the c = 0 point at sigma~ = {hi:g}; the bracket is the measurement")
     elif math.isfinite(hi):
         st.sigma_c_status = "undefined"
-        st.sigma_c_why = (f"alpha/beta = {ab.sigma_c:.3g} lies outside {br}: the line does not "
-                          "follow the measured c = 0; the bracket is the measurement")
+        st.sigma_c_why = (f"alpha/beta = {ab.sigma_c:.3g} lies outside {br}: the line crosses 0 "
+                          "beyond the sigma~ where adhesion was found lost; the bracket is the "
+                          "measurement")
     else:
         st.sigma_c_status, st.sigma_c_why = "measured", ""
     return st
