@@ -30,6 +30,17 @@ def write_grid(folder, data=None, name="grid.yaml", **changes) -> str:
     return path
 
 
+def finished_tiny(folder):
+    """A finished one-path campaign (k~ 1, sigma~ 0.3, two preloads, one seed) in ``folder``,
+    run in this process; returns its file."""
+    from fibril_hpc.campaign import load_spec
+    from fibril_hpc.campaign.run.runner import run_serial
+
+    grid = write_grid(folder, k_tilde=[1], sigma_tilde=[0.3], F_P=[0.3, 1.0], seeds=1)
+    assert run_serial(load_spec(grid), progress=False) == 0
+    return folder / "tiny.h5"
+
+
 def campaign_cmd() -> list:
     exe = shutil.which("fibril-campaign", path=BIN) or shutil.which("fibril-campaign")
     if exe:

@@ -9,20 +9,15 @@ import shutil
 import subprocess
 
 import pytest
-from campaign_helpers import campaign_cmd, env, write_grid
+from campaign_helpers import campaign_cmd, env, finished_tiny
 
-from fibril_hpc.campaign import load_spec
-from fibril_hpc.campaign.run.runner import run_serial
 
 NAMES = [b"bad\xff\xfe name.h5", b"it's \"quoted\" $x;\xc3\xa9t\xc3\xa9.h5"]
 
 
 @pytest.fixture(scope="module")
 def finished(tmp_path_factory):
-    d = tmp_path_factory.mktemp("finished")
-    grid = write_grid(d, k_tilde=[1], sigma_tilde=[0.3], F_P=[0.3, 1.0], seeds=1)
-    assert run_serial(load_spec(grid), progress=False) == 0
-    return d / "tiny.h5"
+    return finished_tiny(tmp_path_factory.mktemp("finished"))
 
 
 def _in_process(args):

@@ -14,19 +14,14 @@ import shutil
 
 import h5py
 import pytest
-from campaign_helpers import write_grid
+from campaign_helpers import finished_tiny
 
-from fibril_hpc.campaign import load_spec
 from fibril_hpc.campaign.analysis.export import netcdf_available, parquet_available
-from fibril_hpc.campaign.run.runner import run_serial
 
 
 @pytest.fixture(scope="module")
 def finished(tmp_path_factory):
-    d = tmp_path_factory.mktemp("finished")
-    grid = write_grid(d, k_tilde=[1], sigma_tilde=[0.3], F_P=[0.3, 1.0], seeds=1)
-    assert run_serial(load_spec(grid), progress=False) == 0
-    return d / "tiny.h5"
+    return finished_tiny(tmp_path_factory.mktemp("finished"))
 
 
 def cli(args, capsys):
