@@ -78,7 +78,8 @@ def hash_digest(campaign_hash) -> bytes:
             return bytes.fromhex(s)
         except ValueError:
             pass
-    return hashlib.sha256(s.encode()).digest()
+    # a damaged root attribute reads back with surrogate escapes: hash its bytes as they are
+    return hashlib.sha256(s.encode("utf-8", "surrogateescape")).digest()
 
 
 # --------------------------------------------------------------------------- payload
