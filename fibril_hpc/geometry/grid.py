@@ -89,6 +89,17 @@ class Geometry:
         """Number of elements that can touch."""
         return len(self.iy)
 
+    def length_spread(self) -> float:
+        """Standard deviation of the groups' mean set-backs (internal units): the brush's own
+        length spread, which bounds a loading batch (``solver.load_merge_spread``); inf for a
+        single group (no spread to resolve), 0 where a group is empty."""
+        counts = np.diff(self.starts)
+        if counts.size < 2:
+            return math.inf
+        if np.any(counts == 0):
+            return 0.0
+        return float(np.std(np.add.reduceat(self.z0, self.starts[:-1]) / counts))
+
     @property
     def labels(self) -> np.ndarray:
         """Group index of every active element."""

@@ -36,19 +36,6 @@ _MAX_RELAX_PASSES = 100_000
 _MAX_SNAPSHOT_PASSES = 1000
 
 
-def length_spread(geometry) -> float:
-    """Standard deviation of the pillars' mean setbacks (internal units): the scene's own
-    length spread, which bounds a loading batch (``solver.load_merge_spread``); inf for a single
-    pillar (no spread to resolve: the batch is ``load_event_merge`` d_c alone)."""
-    counts = np.diff(geometry.starts)
-    if counts.size < 2:
-        return math.inf
-    if np.any(counts == 0):
-        return 0.0
-    mean = np.add.reduceat(geometry.z0, geometry.starts[:-1]) / counts
-    return float(np.std(mean))
-
-
 class PathDriver:
     """Owns the mutable state of one load path on a :class:`~fibril_hpc.model.Model`."""
 
@@ -100,7 +87,7 @@ class PathDriver:
         d_c = model.scaling.d_c
         self.merge = {-1.0: opts.event_merge * d_c,
                       +1.0: min(opts.load_event_merge * d_c,
-                                opts.load_merge_spread * length_spread(g))}
+                                opts.load_merge_spread * g.length_spread())}
         self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
         self.tol_g = 1e3 * opts.cg_tol * d_c
         self.tol_dir = opts.direction_tolerance

@@ -47,12 +47,12 @@ from ...inputs.config import read_yaml
 from ...inputs.heights import is_file as is_height_file
 from ...inputs.limits import check_job_count
 from ...inputs.physical import grid_values
-from ...inputs.ranges import as_float, range_of
-from ...inputs.scene import SCENE_FIELDS, Scene, scene_from_dict
+from ...inputs.scene import SCENE_FIELDS, Scene
 from .auto import parse, settings_hash
 from .axes import record_n_side
 from .keys import campaign_hash_of, job_key, key_fields, keys_of_axes
 from .sweep import check_n_side_sweep, parse_sweep, sweep_files
+from .values import axis_values, base_scene
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
@@ -282,46 +282,6 @@ def _fast_jobs(spec: CampaignSpec, ks, ss, seeds, pre, kind) -> list | None:
     return jobs
 
 
-def _values(name, v):
-    """A number or a list of numbers in the range of Scene field ``name`` (order kept)."""
-    rng = range_of(Scene, name)
-    allowed = rng.allowed(plural=True)
-    items = list(v) if isinstance(v, (list, tuple)) else [v]
-    if not items:
-        raise ConfigError(name, v, allowed)
-    out = []
-    for item in items:
-        if isinstance(item, bool) or not isinstance(item, (int, float, str)):
-            raise ConfigError(name, item, allowed)
-        x = as_float(name, item, allowed)       # "inf", never a number in quotes
-        if not rng.contains(x):
-            raise ConfigError(name, item, allowed)
-        out.append(x)
-    if len(set(out)) != len(out):
-        raise ConfigError(name, v, allowed + " (no duplicates)")
-    return tuple(out)
-
-
-def _base_scene(scene_map: dict, sweep: dict):
-    """The grid's base scene. A lab field that the scene leaves out and the grid sweeps, whose
-    absence alone makes the scene invalid (``tip: sphere`` with ``tip_radius`` only swept), takes
-    its first swept value there: every job sets its own value, so no key changes, and a grid
-    that was valid before is built exactly as before."""
-    try:
-        return scene_from_dict(scene_map, where="scene.")
-    except ConfigError as exc:
-        field = exc.field
-        name = field.removeprefix("scene.")
-        if name == "n_side" or name in scene_map or not sweep.get(name):
-            raise
-    try:
-        return _base_scene({**scene_map, name: sweep[name][0]}, sweep)
-    except ConfigError as again:
-        if again.field != field:
-            raise
-        raise ConfigError(f"sweep.{name}", again.value, again.allowed) from None
-
-
 def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSpec:
     """Validate a grid mapping; every problem is a one-line :class:`ConfigError`."""
     if not isinstance(data, dict):
@@ -353,7 +313,7 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     if "n_side" in sweep:                     # the base scene: the largest brush (limits, memory)
         scene_map["n_side"] = max(sweep["n_side"])
     try:
-        base = _base_scene(scene_map, sweep)
+        base = base_scene(scene_map, sweep)
     except ConfigError as exc:
         if "n_side" not in sweep or exc.field != "scene.n_side":
             raise
@@ -363,8 +323,8 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
     for name in ("k_tilde", "sigma_tilde"):
         if name not in data:
             raise ConfigError(name, None, "a number or a list of numbers (required)")
-    ks = _values("k_tilde", data["k_tilde"])
-    ss = _values("sigma_tilde", data["sigma_tilde"])
+    ks = axis_values("k_tilde", data["k_tilde"])
+    ss = axis_values("sigma_tilde", data["sigma_tilde"])
     if ("d_tilde" in data) == ("F_P" in data):
         raise ConfigError("F_P", data.get("F_P"), "give either F_P or d_tilde (one of them)")
     kind = "F_P" if "F_P" in data else "d_tilde"
@@ -374,7 +334,7 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         pre = ()
     else:
         try:
-            pre = _values(kind, data[kind])
+            pre = axis_values(kind, data[kind])
         except ConfigError as exc:
             if kind != "F_P":
                 raise
