@@ -180,3 +180,16 @@ def test_auto_adds_plateau_rounds_until_F_A_stops_rising():
     flat = {p: (p, math.tanh(p / 0.01)) for p in a.start}
     assert auto.path_todo(a, flat)[0] == []
     assert auto.path_todo(a, {p: (p, math.nan) for p in a.start})[0] == []
+
+
+def test_the_pillar_floor_comes_from_the_campaigns_scene():
+    from fibril_hpc.campaign.analysis.report_data import campaign_floor
+
+    job = {"status": "done", "scene_yaml": "n_side: 6\nphi: 0.16\n"}
+    # no grid text in the file: the first done job's stored scene tells (not the defaults)
+    f, note = campaign_floor({"campaign_yaml": ""}, [job])
+    assert f == pytest.approx(reading.pillar_floor(6, 0.16)) and "N = 36" in note
+    f, _ = campaign_floor({"campaign_yaml": "scene: {n_side: 18}\n"}, [job])
+    assert f == pytest.approx(FLOOR)
+    assert math.isnan(campaign_floor({"campaign_yaml": "scene: {tip: sphere}\n"}, [job])[0])
+    assert math.isnan(campaign_floor({}, [])[0])

@@ -118,9 +118,10 @@ def points_by_group(jobs) -> dict:
     return {k: tuple(np.asarray(c) for c in zip(*v)) for k, v in sorted(rows.items())}
 
 
-def campaign_preset(meta, jobs) -> tuple[str, float | None]:
-    """(preset name, elements per diameter) of the campaign's scene: the resolved grid in the
-    file's ``campaign_yaml``, else the scene of its first done job; ("", None) if neither."""
+def _scene_maps(meta, jobs):
+    """The campaign's scene mappings, first what tells most: the resolved grid's ``scene`` in
+    the file's ``campaign_yaml``, then the stored scene of its first done job (texts that are
+    missing, not YAML or not mappings are skipped)."""
     import yaml
 
     texts = [meta.get("campaign_yaml")] + [j.get("scene_yaml") for j in jobs
@@ -133,7 +134,15 @@ def campaign_preset(meta, jobs) -> tuple[str, float | None]:
         except yaml.YAMLError:
             continue
         d = d.get("scene", d) if isinstance(d, dict) else {}
-        if isinstance(d, dict) and ("preset" in d or "elements_per_diameter" in d):
+        if isinstance(d, dict):
+            yield d
+
+
+def campaign_preset(meta, jobs) -> tuple[str, float | None]:
+    """(preset name, elements per diameter) of the campaign's scene (:func:`_scene_maps`);
+    ("", None) if none tells."""
+    for d in _scene_maps(meta, jobs):
+        if "preset" in d or "elements_per_diameter" in d:
             epd = d.get("elements_per_diameter")
             try:
                 epd = float(epd) if epd is not None else None
@@ -144,32 +153,23 @@ def campaign_preset(meta, jobs) -> tuple[str, float | None]:
 
 
 def campaign_floor(meta, jobs, n_side=None) -> tuple[float, str]:
-    """(one pillar's pull-off, how it was computed) from the campaign's scene: ``n_side`` (the
-    one read, else the scene's) and ``phi`` of the resolved grid in the file's ``campaign_yaml``
-    or of the first done job's scene; NaN (and why) when neither tells, or when the pillars are
-    not flat punches (the floor is Kendall's flat punch)."""
-    import yaml
-
+    """(one pillar's pull-off, how it was computed) from the campaign's scene
+    (:func:`_scene_maps`): ``n_side`` (the one read, else the scene's) and ``phi``; NaN (and
+    why) when no scene tells, or when the pillars are not flat punches (the floor is Kendall's
+    flat punch)."""
     from ...inputs.scene import Scene
 
-    texts = [meta.get("campaign_yaml")] + [j.get("scene_yaml") for j in jobs
-                                            if j.get("status") == "done"][:1]
     dflt = Scene()
-    for text in texts:
-        try:
-            d = yaml.safe_load(text or "") or {}
-        except yaml.YAMLError:
-            continue
-        d = d.get("scene", d) if isinstance(d, dict) else {}
-        if not isinstance(d, dict):
-            continue
+    for d in _scene_maps(meta, jobs):
         try:
             n = int(n_side if n_side is not None else d.get("n_side", dflt.n_side))
             phi = float(d.get("phi", dflt.phi))
         except (TypeError, ValueError):
             continue
-        if str(d.get("tip", "flat")) != "flat" or n < 1 or not 0 < phi < 1:
+        if str(d.get("tip", "flat")) != "flat":
             return math.nan, "no pillar floor: the tips are not flat punches"
+        if n < 1 or not 0 < phi < 1:
+            continue
         f = pillar_floor(n, phi)
         return f, (f"one flat pillar's Kendall pull-off phi^(1/4) / N^(3/4) = {f:.3g} for "
                    f"N = {n * n} pillars at phi {phi:g}; adhesion lost: a plateau of at most "

@@ -18,8 +18,8 @@ excludes 0 and no sigma~ run lost adhesion (an extrapolation beyond the largest 
 interval); with beta consistent with 0 it is undefined (the data do not show c reaching 0).
 Where a sigma~ lost adhesion the model-free bracket (the largest sigma~ with c > 0, the smallest
 with c = 0) is the measurement: alpha/beta inside it is *pinned* by the c = 0 point (it only says
-where inside the line crosses), outside it the line contradicts the data and sigma~_c is
-undefined.
+where inside the line crosses), outside it (the line crossing 0 beyond the measured loss)
+sigma~_c is undefined.
 """
 
 from __future__ import annotations
