@@ -69,7 +69,7 @@ def curves(jobs, out_dir, name="curves.png"):
     fig, (a1, a2) = subplots(1, 2, figsize=(11, 4.4))
     drawn = 0
     for i, j in enumerate(jobs):
-        col = f"C{i % 10}"
+        col = colour(i, len(jobs))
         lab = (f"{KT}={j['k_tilde']:g}, {SIG}={j['sigma_tilde']:g}, "
                f"{FP}={j['F_P']:.3g}, seed {j['seed']}")
         for br, ls in (("loading", "-"), ("unloading", "--")):

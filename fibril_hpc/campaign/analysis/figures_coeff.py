@@ -106,7 +106,7 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
 
 def c0_vs_sigma(data, out_dir, name="c0_vs_sigma.png"):
     """The first-contact slope c0 against sigma~ per k~ (log-log), seed intervals."""
-    fig, ax = subplots(figsize=(6.6, 4.6))
+    fig, ax = subplots(figsize=(7.6, 4.6))
     drawn = False
     for i, (k, st) in enumerate(data.studies.items()):
         sel = [g for g in st.groups if math.isfinite(g.reading.c0) and g.reading.c0 > 0
@@ -120,7 +120,7 @@ def c0_vs_sigma(data, out_dir, name="c0_vs_sigma.png"):
     if drawn:
         ax.set_xscale("log")
         ax.set_yscale("log")
-        legend(ax)
+        legend(ax, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     else:
         say(ax, "no c₀ > 0 to draw (no rise, or no σ̃ > 0)")
     ax.set_xlabel(f"roughness {SIG}")
@@ -242,14 +242,17 @@ def _sigma_c_panel(ax, data) -> bool:
             ax.plot([k], [lo], "^", color="0.5", ms=7, mfc="none",
                     label=f"{SIG}$_c$ > the largest {SIG} run" if not drawn else None)
             drawn = True
-        if st.sigma_c_status in ("measured", "pinned") and math.isfinite(st.ab.sigma_c):
-            pinned = st.sigma_c_status == "pinned"
+        if st.sigma_c_status == "measured" and math.isfinite(st.ab.sigma_c):
             ax.errorbar([k], [st.ab.sigma_c], yerr=np.array([err(st.ab.sigma_c, st.sigma_c_ci)]).T,
-                        fmt="o", capsize=3, color="C3", mfc="none" if pinned else "C3")
+                        fmt="o", capsize=3, color="C3")
+            drawn = True
+        elif st.sigma_c_status == "pinned" and math.isfinite(st.ab.sigma_c):
+            # the bracket is the measurement: no interval of alpha/beta drawn beside it
+            ax.plot([k], [st.ab.sigma_c], "o", color="C3", mfc="none")
             drawn = True
     if drawn:
         ax.set_yscale("log")
         legend(ax)
-    ax.set_title(f"{SIG}$_c$: grey the data bracket (△ above it); ● α/β measured, ○ pinned",
+    ax.set_title(f"{SIG}$_c$: grey the data bracket (△ above it);\n● α/β measured, ○ pinned",
                  fontsize=9)
     return drawn
