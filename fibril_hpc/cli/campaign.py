@@ -92,7 +92,8 @@ def cmd_run(args) -> int:
         spec = shard_spec(spec, *shard, output=spec.output if args.output else None)
         if launcher_rank() == 0:
             print(f"fibril-campaign: shard {shard[0]}/{shard[1]}: "
-                  + (f"{len(spec.jobs)} jobs" if spec.auto is None else
+                  + (f"{len(spec.lines())} search lines" if spec.search else
+                     f"{len(spec.jobs)} jobs" if spec.auto is None else
                      f"{len(spec.paths())} F_P: auto paths") + f" into {spec.output}",
                   file=sys.stderr)
     if args.fft_threads is not None:
@@ -124,11 +125,13 @@ def cmd_run(args) -> int:
 
 
 def _print_plan(spec, retry_failed: bool) -> None:
-    from ..campaign.analysis.status import plan
+    from ..campaign.analysis.status import plan, search_cost_line, search_plan_line
 
     pl = plan(spec, retry_failed)
     swept = "".join(f" x {len(v)} sweep.{k}" for k, v in spec.sweep.items())
-    if spec.auto is None:
+    if spec.search:
+        print(search_plan_line(spec))
+    elif spec.auto is None:
         print(f"campaign {spec.campaign_hash[:12]}: {len(spec.jobs)} jobs "
               f"({len(spec.k_tilde)} k_tilde x {len(spec.sigma_tilde)} sigma_tilde x "
               f"{len(spec.preloads)} {spec.preload_kind} x {len(spec.seeds)} seeds{swept}), "
@@ -152,6 +155,8 @@ def _print_plan(spec, retry_failed: bool) -> None:
     print(f"estimated cost ({pl.how}): {est / 3600:.3g} core-hours "
           f"x {spec.base.solver.threads} thread(s) per rank "
           f"(~{est / 60:.3g} min on one rank)")
+    if spec.search and pl.n_tasks:
+        print(search_cost_line(spec, est / pl.n_tasks))
 
 
 # ------------------------------------------------------------------------------------ status

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import yaml
 
 from ...errors import StoreError
+from ..plan import search
 from ..plan.auto import path_todo, results_by_path
 from ..plan.axes import record_n_side
 from ..plan.estimate import fft_pair_seconds, task_seconds
@@ -55,6 +56,9 @@ def _grid_jobs(meta: dict, path: str, records=()) -> dict | None:
         spec = spec_from_dict(resolved)
     except Exception:  # noqa: BLE001 - no single grid: count the records only
         return None
+    if spec.search:
+        return {j.key: j for path, pre in search.frontier(spec, records)
+                for j in spec.auto_task(path, pre).jobs}
     if spec.auto is None:
         return {j.key: j for j in spec.jobs}
 
@@ -128,16 +132,23 @@ def plan(spec, retry_failed: bool = False) -> Plan:
     and the model is evaluated once per distinct (brush size, preloads), which is all a task's
     modelled cost depends on (:func:`~fibril_hpc.campaign.plan.estimate.task_pairs`).
     """
-    jobs = spec.jobs if spec.auto is None else [    # F_P: auto: its round 0 only
-        j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
-    todo = {j.key for j in jobs}
-    done = failed = 0
-    walls = {}                  # n_side -> per-job wall seconds of the finished jobs
+    recs = {}
     if os.path.exists(spec.output):
         try:
             _, recs, _ = read_records(spec.output, curves=False)
         except StoreError:
             recs = {}
+    # a search grid: the rounds the file's records lead to now
+    front = search.frontier(spec, recs.values(), retry_failed) if spec.search else None
+    if front is not None:
+        jobs = [j for path, pre in front for j in spec.auto_task(path, pre).jobs]
+    else:
+        jobs = spec.jobs if spec.auto is None else [    # F_P: auto: its round 0 only
+            j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
+    todo = {j.key for j in jobs}
+    done = failed = 0
+    walls = {}                  # n_side -> per-job wall seconds of the finished jobs
+    if recs:
         for k, r in recs.items():
             if r.get("status") == "done":
                 done += k in todo
@@ -156,7 +167,7 @@ def plan(spec, retry_failed: bool = False) -> Plan:
     sizes: dict = {}            # n_side -> tasks to run
     measured: dict = {}         # n_side -> jobs to run priced by that size's finished jobs
     modelled: dict = {}         # model key -> tasks of the sizes that have no finished job
-    for js, scene in _task_jobs(spec, todo):
+    for js, scene in _task_jobs(spec, todo, front):
         n = _n_side(spec, js)
         sizes[n] = sizes.get(n, 0) + 1
         if walls.get(n):
@@ -165,7 +176,7 @@ def plan(spec, retry_failed: bool = False) -> Plan:
             key = model.key(js, n, scene)
             modelled[key] = modelled.get(key, 0) + 1
     est = sum(sum(walls[n]) / len(walls[n]) * jobs for n, jobs in measured.items())
-    scale, ref = _calibration(spec, walls, model) if modelled else (1.0, None)
+    scale, ref = _calibration(spec, walls, model, front) if modelled else (1.0, None)
     est += scale * sum(model.seconds(key) * count for key, count in modelled.items())
     n_tasks = sum(sizes.values())
     pair_s, m, epp = timed[max(timed)]           # the largest brush's (the base scene's)
@@ -175,9 +186,16 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                 fft_pair_s=pair_s, fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how)
 
 
-def _task_jobs(spec, keys=None):
+def _task_jobs(spec, keys=None, front=None):
     """(jobs, scene or None) of each task of ``spec`` with a job in ``keys`` (all when None):
-    a fixed grid's without building their scenes, an ``F_P: auto`` grid's round 0."""
+    a fixed grid's without building their scenes, an ``F_P: auto`` grid's round 0, a search
+    grid's ``front`` (:func:`~fibril_hpc.campaign.plan.search.frontier`)."""
+    if front is not None:
+        for path, pre in front:
+            t = spec.auto_task(path, pre)
+            if keys is None or any(j.key in keys for j in t.jobs):
+                yield t.jobs, t.scene
+        return
     if spec.auto is None:
         for js in spec.task_jobs(keys):
             yield js, None
@@ -221,7 +239,7 @@ class _Model:
         return self.cache[key]
 
 
-def _calibration(spec, walls: dict, model: _Model) -> tuple:
+def _calibration(spec, walls: dict, model: _Model, front=None) -> tuple:
     """(measured / modelled cost per job, n_side) at the largest brush size of a grid sweeping
     n_side that has finished jobs, to scale the model of its sizes that have none; (1.0, None)
     without one. The model's own growth with the brush is kept, its level taken from the file."""
@@ -230,7 +248,7 @@ def _calibration(spec, walls: dict, model: _Model) -> tuple:
         return 1.0, None
     ref = max(measured)
     total = jobs = 0
-    for js, scene in _task_jobs(spec):
+    for js, scene in _task_jobs(spec, None, front):
         if _n_side(spec, js) == ref:
             total += model.seconds(model.key(js, ref, scene))
             jobs += len(js)
@@ -251,4 +269,39 @@ def _how(n_walls: int, modelled: set, swept: bool, scale: float = 1.0, ref=None)
     return how
 
 
-__all__ = ["file_status", "FileStatus", "plan", "Plan"]
+def search_plan_line(spec) -> str:
+    """What a search grid is, for ``--dry-run``: its lines and its settings."""
+    a, sa = spec.sigma_auto, spec.seeds_auto
+    sizes = f" x {len(spec.n_sides)} n_side" if len(spec.n_sides) > 1 else ""
+    sig = (f"sigma~ auto from {', '.join(f'{x:g}' for x in a.start)} (in [{a.min:g}, {a.max:g}]; "
+           f"adhesion loss bracketed to {a.bracket:g}x, fit gaps closed to {a.spacing:g}x, at "
+           f"most {a.rounds} rounds)" if a is not None
+           else f"sigma~ {', '.join(f'{x:g}' for x in spec.sigma_tilde)}")
+    seeds = (f"seeds auto {sa.start} to {sa.max} per group (until plateau and c are known "
+             f"within {sa.width:g} of their value)" if sa is not None
+             else f"{len(spec.seeds)} seeds")
+    pre = ("F_P auto" if spec.auto is not None
+           else f"{spec.preload_kind} {', '.join(f'{x:g}' for x in spec.preloads)}")
+    return (f"campaign {spec.campaign_hash[:12]}: search grid, {len(spec.lines())} lines "
+            f"({len(spec.k_tilde)} k_tilde{sizes}); {sig}; {seeds}; {pre}. The counts and cost "
+            "below are the round the file's records lead to now")
+
+
+def search_cost_line(spec, per_path_s: float) -> str:
+    """The whole search's likely cost, for ``--dry-run``: a line's typical sigma~ count
+    (:func:`~fibril_hpc.campaign.plan.search.expected_sigmas`) x its seeds, priced per loading
+    path as the round to run now."""
+    a, sa = spec.sigma_auto, spec.seeds_auto
+    n_s = search.expected_sigmas(a) if a is not None else len(spec.sigma_tilde)
+    lo, hi = (sa.start, sa.max) if sa is not None else (len(spec.seeds),) * 2
+    paths = len(spec.lines()) * n_s
+    cost = [per_path_s * paths * n / 3600 for n in (lo, hi)]
+    seeds = f"{lo} to {hi} seeds" if lo != hi else f"{lo} seeds"
+    return (f"the whole search, if the loss lies inside the start range: about {n_s} sigma~ per "
+            f"line x {seeds} = {paths * lo}" + (f" to {paths * hi}" if hi != lo else "")
+            + f" loading paths, {cost[0]:.3g}" + (f" to {cost[1]:.3g}" if hi != lo else "")
+            + " core-hours (at this round's cost per path; F_P auto rounds and a loss outside "
+            "the start range add more)")
+
+
+__all__ = ["file_status", "FileStatus", "plan", "Plan", "search_plan_line", "search_cost_line"]

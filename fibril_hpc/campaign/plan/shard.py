@@ -3,8 +3,10 @@
 Shard I of N runs the loading paths whose rank, in the order of their keys, is I modulo N: a
 path (the jobs sharing k~, sigma~ and seed, and the swept lab values, when ``group_preloads``;
 else one job) is never split, so a path's preloads still share one loading, and every ``F_P:
-auto`` path keeps all its rounds in one shard. A path's key is the smallest key of its jobs
-(``F_P: auto``: the path key of :meth:`~.spec.CampaignSpec.path_key`), so the rule depends on
+auto`` path keeps all its rounds in one shard; a search grid (``sigma_tilde: auto``, ``seeds:
+auto``) is split by line (k~ and n_side), whose rounds read all its groups. A path's key is the
+smallest key of its jobs (``F_P: auto``: the path key of
+:meth:`~.spec.CampaignSpec.path_key`; a line's: :meth:`~.spec.CampaignSpec.line_key`), so the rule depends on
 the grid alone, not on the order of its lists or on what has run. Each shard writes its own
 file (``<output>.shard-I-of-N.h5`` unless ``--output`` is given) under the campaign hash of the
 whole grid; ``fibril-campaign merge`` joins the shards into the file a single run would have
@@ -66,6 +68,10 @@ def shard_spec(spec, i: int, n: int, output: str | None = None):
     campaign hash of the whole grid, and ``output`` (default :func:`shard_output`)."""
     whole = spec.campaign_hash
     out = output or shard_output(spec.output, i, n)
+    if spec.search:                      # a line's rounds decide over all its sigma~ and seeds
+        lines = sorted(spec.lines(whole=True), key=spec.line_key)
+        mine = frozenset(ln for r, ln in enumerate(lines) if r % n == i)
+        return dataclasses.replace(spec, only_lines=mine, grid_hash=whole, output=out)
     if spec.auto is not None:
         paths = sorted(spec.paths(whole=True), key=spec.path_key)
         mine = frozenset(p for r, p in enumerate(paths) if r % n == i)

@@ -49,10 +49,13 @@ from ...inputs.limits import check_job_count
 from ...inputs.physical import grid_values
 from ...inputs.scene import SCENE_FIELDS, Scene
 from .auto import parse, settings_hash
+from .search import check_grid, is_auto, parse_seeds, parse_sigma
+from .search import settings_hash as search_hash
 from .axes import record_n_side
-from .keys import campaign_hash_of, job_key, key_fields, keys_of_axes
+from .fastjobs import fast_jobs
+from .keys import campaign_hash_of, job_key
 from .sweep import check_n_side_sweep, parse_sweep, sweep_files
-from .values import axis_values, base_scene
+from .values import axis_values, base_scene, seed_values
 
 SWEPT = ("k_tilde", "sigma_tilde", "d_tilde", "F_P", "seed")
 TOP_KEYS = ("output", "scene", "k_tilde", "sigma_tilde", "d_tilde", "F_P", "seeds",
@@ -112,6 +115,11 @@ class CampaignSpec:
     #: a shard's (:mod:`.shard`): the hash of the whole grid, and the loading paths it keeps
     grid_hash: str = ""
     only_paths: frozenset | None = None
+    #: ``sigma_tilde: auto`` and ``seeds: auto`` settings (:mod:`.search`), None for lists
+    sigma_auto: object = None
+    seeds_auto: object = None
+    #: a search grid's shard: the lines (k~[, n_side]) it keeps
+    only_lines: frozenset | None = None
 
     # ------------------------------------------------------------------ identity
     def resolved(self) -> dict:
@@ -120,9 +128,12 @@ class CampaignSpec:
         for k in SWEPT + (("n_side",) if "n_side" in self.sweep else ()):
             scene.pop(k, None)
         pre = list(self.preloads) if self.auto is None else {"auto": self.auto.to_dict()}
+        sig = (list(self.sigma_tilde) if self.sigma_auto is None
+               else {"auto": self.sigma_auto.to_dict()})
+        seeds = list(self.seeds) if self.seeds_auto is None else {"auto": self.seeds_auto.to_dict()}
         out = {"description": self.description, "scene": scene,
-               "k_tilde": list(self.k_tilde), "sigma_tilde": list(self.sigma_tilde),
-               self.preload_kind: pre, "seeds": list(self.seeds),
+               "k_tilde": list(self.k_tilde), "sigma_tilde": sig,
+               self.preload_kind: pre, "seeds": seeds,
                "group_preloads": self.group_preloads}
         if self.sweep:
             out["sweep"] = {k: list(v) for k, v in self.sweep.items()}
@@ -138,11 +149,54 @@ class CampaignSpec:
         sorted path keys ``auto:<settings hash>:<key of the path's scene at F_P = 1>``."""
         if self.grid_hash:
             return self.grid_hash
+        if self.search:
+            r = self.resolved()
+            h = search_hash(r["sigma_tilde"], r["seeds"], r[self.preload_kind])
+            return campaign_hash_of(f"search:{h}:{self.line_key(ln)}" for ln in self.lines(True))
         if self.auto is None:
             return campaign_hash_of(j.key for j in self.jobs)
 
         h = settings_hash(self.auto)
         return campaign_hash_of(f"auto:{h}:{self.path_key(p)}" for p in self.paths())
+
+    # ------------------------------------------------------------------ search grids
+    @property
+    def search(self) -> bool:
+        """``sigma_tilde: auto`` or ``seeds: auto``: lines searched round by round (:mod:`.search`)."""
+        return self.sigma_auto is not None or self.seeds_auto is not None
+
+    @property
+    def adaptive(self) -> bool:
+        """The jobs are chosen while the campaign runs (``F_P: auto`` or a search grid)."""
+        return self.auto is not None or self.search
+
+    def lines(self, whole: bool = False) -> list:
+        """The lines (k_tilde,) of a search grid, (k_tilde, n_side) when it sweeps ``n_side``
+        (a shard's own, unless ``whole``)."""
+        sizes = [(n,) for n in self.sweep["n_side"]] if "n_side" in self.sweep else [()]
+        return [(k,) + n for n in sizes for k in self.k_tilde
+                if whole or self.only_lines is None or (k,) + n in self.only_lines]
+
+    def line_key(self, line) -> str:
+        """Key of the line's scene at sigma~ = 1, seed 0 and preload 1 (its identity)."""
+        return job_key(self.base.replace(k_tilde=line[0], sigma_tilde=1.0, seed=0,
+                                         **{self.preload_kind: (1.0,)},
+                                         **dict(self._path_extra((0, 0, 0) + tuple(line[1:])))))
+
+    def holds_path(self, path) -> bool:
+        """Whether a loading path (k~, sigma~, seed[, n_side]) may be one of this grid's."""
+        k, s, seed = path[:3]
+        if len(path) != 3 + ("n_side" in self.sweep) or k not in self.k_tilde or \
+                (len(path) > 3 and path[3] not in self.n_sides):
+            return False
+        a, sa = self.sigma_auto, self.seeds_auto
+        s_ok = (a.min <= s <= a.max) if a is not None else s in self.sigma_tilde
+        seed_ok = (0 <= seed < sa.max) if sa is not None else seed in self.seeds
+        if not (s_ok and seed_ok):
+            return False
+        if self.only_lines is not None and (k,) + tuple(path[3:]) not in self.only_lines:
+            return False
+        return self.search or self.only_paths is None or tuple(path) in self.only_paths
 
     # ------------------------------------------------------------------ F_P: auto
     @property
@@ -181,16 +235,18 @@ class CampaignSpec:
                                          **dict(self._path_extra(path))))
 
     def auto_task(self, path, preloads) -> Task:
-        """One round of an ``F_P: auto`` path: a task with one ordinary job per preload."""
+        """One round of an ``F_P: auto`` path, or the jobs a search grid runs on one path: a
+        task with one ordinary job per preload."""
         k, s, seed = path[:3]
         extra = self._path_extra(path)
-        base_index = self.paths(whole=True).index(tuple(path)) * 1000
+        kind = self.preload_kind
+        base_index = 0 if self.search else self.paths(whole=True).index(tuple(path)) * 1000
         jobs = []
         for i, p in enumerate(sorted(preloads)):
-            job = Job("", base_index + i, k, s, "F_P", p, seed, extra)
-            jobs.append(Job(job_key(self.job_scene(job)), job.index, k, s, "F_P", p, seed, extra))
+            job = Job("", base_index + i, k, s, kind, p, seed, extra)
+            jobs.append(Job(job_key(self.job_scene(job)), job.index, k, s, kind, p, seed, extra))
         scene = self.base.replace(k_tilde=k, sigma_tilde=s, seed=seed,
-                                  F_P=tuple(j.preload for j in jobs), **dict(extra))
+                                  **{kind: tuple(j.preload for j in jobs)}, **dict(extra))
         return Task(tuple(jobs), scene)
 
     # ------------------------------------------------------------------ jobs
@@ -237,51 +293,6 @@ class CampaignSpec:
                 else self.base.with_checked_axes(**axes))
 
 
-#: jobs of a grid whose keys are checked against the per-job path (:func:`_fast_jobs`)
-KEY_SAMPLE = 64
-
-
-def _fast_jobs(spec: CampaignSpec, ks, ss, seeds, pre, kind) -> list | None:
-    """The jobs of a grid without a sweep, each axis value validated once and every key made
-    from one template (a job's scene differs from the first job's only in the axes, and its key
-    mapping only in their entries): some 50 times faster than a Scene per job, which made a
-    10^6-job grid take minutes to enumerate. Checked: the keys of :data:`KEY_SAMPLE` jobs spread
-    over the grid (the first and last included) are recomputed the per-job way; None (use the
-    per-job path) if any differs."""
-    first = (ks[0], ss[0], seeds[0], pre[0])
-
-    def scene_of(k, s, seed, p):            # validated exactly as the solver will see it
-        return spec.job_scene(Job("", 0, k, s, kind, p, seed))
-
-    template = key_fields(scene_of(*first))
-    vals = []
-    for axis, values in enumerate((ks, ss, seeds, pre)):   # each value with the others' first
-        out = {}
-        for v in values:
-            args = list(first)
-            args[axis] = v
-            d = key_fields(scene_of(*args))
-            out[v] = d[("k_tilde", "sigma_tilde", "seed", kind)[axis]]
-        vals.append(out)
-    axes = (ks, ss, seeds, pre)
-    keys = keys_of_axes(template, ("k_tilde", "sigma_tilde", "seed", kind),
-                        [[vals[a][v] for v in values] for a, values in enumerate(axes)])
-    jobs = []
-    i = 0
-    for k in ks:
-        for s in ss:
-            for seed in seeds:
-                for p in pre:
-                    jobs.append(Job(keys[i], i, k, s, kind, p, seed, ()))
-                    i += 1
-    step = max(1, (len(jobs) - 1) // (KEY_SAMPLE - 1))
-    for i in sorted(set(range(0, len(jobs), step)) | {len(jobs) - 1}):
-        j = jobs[i]
-        if job_key(scene_of(j.k_tilde, j.sigma_tilde, j.seed, j.preload)) != j.key:
-            return None
-    return jobs
-
-
 def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSpec:
     """Validate a grid mapping; every problem is a one-line :class:`ConfigError`."""
     if not isinstance(data, dict):
@@ -324,7 +335,12 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         if name not in data:
             raise ConfigError(name, None, "a number or a list of numbers (required)")
     ks = axis_values("k_tilde", data["k_tilde"])
-    ss = axis_values("sigma_tilde", data["sigma_tilde"])
+    sigma_auto = parse_sigma(data["sigma_tilde"]) if is_auto(data["sigma_tilde"]) else None
+    try:
+        ss = () if sigma_auto else axis_values("sigma_tilde", data["sigma_tilde"])
+    except ConfigError as exc:
+        raise ConfigError(exc.field, exc.value, exc.allowed + "; or auto, or {auto: {settings}} "
+                          "(docs/campaigns.md, 'sigma_tilde: auto')") from None
     if ("d_tilde" in data) == ("F_P" in data):
         raise ConfigError("F_P", data.get("F_P"), "give either F_P or d_tilde (one of them)")
     kind = "F_P" if "F_P" in data else "d_tilde"
@@ -341,19 +357,8 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
             raise ConfigError(exc.field, exc.value, exc.allowed + "; or auto, or "
                               "{auto: {settings}} (docs/campaigns.md, 'F_P: auto')") from None
     seeds_v = data.get("seeds", 1)
-    if isinstance(seeds_v, bool):
-        raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
-    if isinstance(seeds_v, int):
-        if not 1 <= seeds_v <= 100000:
-            raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
-        seeds = tuple(range(seeds_v))
-    elif isinstance(seeds_v, list) and seeds_v and all(
-            isinstance(s, int) and not isinstance(s, bool) and 0 <= s < 2**63 for s in seeds_v):
-        if len(set(seeds_v)) != len(seeds_v):
-            raise ConfigError("seeds", seeds_v, "a list of distinct integers >= 0")
-        seeds = tuple(seeds_v)
-    else:
-        raise ConfigError("seeds", seeds_v, "a count in [1, 100000] or a list of integers >= 0")
+    seeds_auto = parse_seeds(seeds_v)
+    seeds = tuple(range(seeds_auto.max)) if seeds_auto is not None else seed_values(seeds_v)
     group = data.get("group_preloads", True)
     if not isinstance(group, bool):
         raise ConfigError("group_preloads", group, "true or false")
@@ -362,13 +367,17 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
         raise ConfigError("description", desc, "a text")
     spec = CampaignSpec(base=base, k_tilde=ks, sigma_tilde=ss, preload_kind=kind, preloads=pre,
                         seeds=seeds, group_preloads=group, output=output, source=source,
-                        description=desc, auto=auto, sweep=sweep)
-    counts = {"k_tilde": len(ks), "sigma_tilde": len(ss)}
+                        description=desc, auto=auto, sweep=sweep, sigma_auto=sigma_auto,
+                        seeds_auto=seeds_auto)
+    counts = {"k_tilde": len(ks),
+              "sigma_tilde": len(sigma_auto.start) if sigma_auto else len(ss)}
     if auto is None:
         counts[kind] = len(pre)
     counts["seeds"] = len(seeds)
     counts.update({f"sweep.{name}": len(values) for name, values in sweep.items()})
     check_job_count(counts)                  # before enumerating any job or path
+    if spec.search:
+        return check_grid(spec, sweep, group)
     if auto is not None:
         if not group:
             raise ConfigError("group_preloads", group, "true with F_P: auto (a round is one "
@@ -382,7 +391,7 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
             spec.auto_task(path, auto.start[:1])
         return spec
     if not sweep:
-        jobs = _fast_jobs(spec, ks, ss, seeds, pre, kind)
+        jobs = fast_jobs(spec, Job, ks, ss, seeds, pre, kind)
         if jobs is not None:
             spec.jobs = jobs
             return spec

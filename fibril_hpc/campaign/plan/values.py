@@ -28,6 +28,22 @@ def axis_values(name, v):
     return tuple(out)
 
 
+SEEDS_ALLOWED = ("a count in [1, 100000], a list of distinct integers >= 0, auto or "
+                 "{auto: {start, max, width}}")
+
+
+def seed_values(v) -> tuple:
+    """The seeds of a grid: a count n (seeds 0 .. n-1) or a list of distinct integers >= 0."""
+    if isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= 100000:
+        return tuple(range(v))
+    if isinstance(v, list) and v and all(
+            isinstance(s, int) and not isinstance(s, bool) and 0 <= s < 2**63 for s in v):
+        if len(set(v)) != len(v):
+            raise ConfigError("seeds", v, "a list of distinct integers >= 0")
+        return tuple(v)
+    raise ConfigError("seeds", v, SEEDS_ALLOWED)
+
+
 def base_scene(scene_map: dict, sweep: dict):
     """The grid's base scene. A lab field that the scene leaves out and the grid sweeps, whose
     absence alone makes the scene invalid (``tip: sphere`` with ``tip_radius`` only swept), takes

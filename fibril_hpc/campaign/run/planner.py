@@ -8,6 +8,7 @@ exactly as it always did; an ``F_P: auto`` grid follows each path round by round
 
 from __future__ import annotations
 
+from ..plan import search
 from ..plan.auto import path_todo, results_by_path
 from ..storage import store
 
@@ -80,9 +81,58 @@ class AutoPlanner:
         return {"jobs": done + failed, "done": done, "failed": failed, "pending": 0}
 
 
+class SearchPlanner:
+    """The rounds of a search grid (``sigma_tilde: auto``, ``seeds: auto``), replayed line by
+    line from the file's records (:mod:`fibril_hpc.campaign.plan.search`). A path is handed out
+    once until its task comes back: a line's replay lists the paths of its unfinished groups,
+    some of them still running."""
+
+    fixed = False
+
+    def __init__(self, spec, writer, retry_failed: bool):   # noqa: ARG002 - the others' interface
+        self.spec = spec
+        self.retry_failed = retry_failed
+        _, recs = store.read_h5_records(spec.output, curves=False)
+        self.done, self.failed = search.results(spec, recs.values())
+        self.running: set = set()
+        self.cache: dict = {}            # finished groups' readings (they never change)
+
+    def _line_tasks(self, line, retry: bool) -> list:
+        rp = search.replay_line(self.spec, line, self.done, self.failed, retry, self.cache)
+        out = [self.spec.auto_task(path, pre) for path, pre in rp.todo
+               if path not in self.running]
+        self.running.update(self.spec.path_of_job(t.jobs[0]) for t in out)
+        return out
+
+    def initial(self) -> list:
+        """Every line's current round (replayed from the records)."""
+        return [t for line in self.spec.lines() for t in self._line_tasks(line, self.retry_failed)]
+
+    def after(self, task, records) -> list:
+        """What the line of ``task`` runs next given its new ``records``."""
+        path = self.spec.path_of_job(task.jobs[0])
+        self.running.discard(path)
+        for r in records:
+            p = float(r["preload"])
+            if r["status"] == "done":
+                self.done.setdefault(path, {})[p] = (float(r["F_P"]), float(r["F_A"]))
+                self.failed.get(path, set()).discard(p)
+            else:
+                self.failed.setdefault(path, set()).add(p)
+        return self._line_tasks((path[0],) + tuple(path[3:]), False)
+
+    def counts(self) -> dict:
+        """Done and failed jobs so far (a search grid has no pending count)."""
+        done = sum(len(d) for d in self.done.values())
+        failed = sum(len(f - set(self.done.get(p, {}))) for p, f in self.failed.items())
+        return {"jobs": done + failed, "done": done, "failed": failed, "pending": 0}
+
+
 def make_planner(spec, writer, retry_failed: bool):
-    """The planner of ``spec``: :class:`AutoPlanner` for ``F_P: auto``, else :class:`FixedPlanner`."""
-    return (AutoPlanner if spec.auto is not None else FixedPlanner)(spec, writer, retry_failed)
+    """The planner of ``spec``: :class:`SearchPlanner` for a search grid, :class:`AutoPlanner`
+    for ``F_P: auto``, else :class:`FixedPlanner`."""
+    cls = SearchPlanner if spec.search else AutoPlanner if spec.auto is not None else FixedPlanner
+    return cls(spec, writer, retry_failed)
 
 
-__all__ = ["FixedPlanner", "AutoPlanner", "make_planner"]
+__all__ = ["FixedPlanner", "AutoPlanner", "SearchPlanner", "make_planner"]

@@ -47,7 +47,7 @@ def _grid(campaign_yaml: str):
     spec = _rebuilt(campaign_yaml)
     if spec is None:
         return None
-    if spec.auto is not None:
+    if spec.adaptive:
         return frozenset(), spec, {}
     sizes = {j.key: dict(j.extra)["n_side"] for j in spec.jobs} if "n_side" in spec.sweep else {}
     return frozenset(j.key for j in spec.jobs), None, sizes
@@ -62,7 +62,7 @@ def job_sweeps(campaign_yaml) -> dict | None:
     spec = _rebuilt(campaign_yaml) if isinstance(campaign_yaml, str) and campaign_yaml else None
     if spec is None:
         return None
-    if not spec.sweep or spec.auto is not None:
+    if not spec.sweep or spec.adaptive:
         return {}
     names = list(spec.sweep)
     combos = list(itertools.product(*(spec.sweep[n] for n in names)))
@@ -129,7 +129,7 @@ class GridIndex:
 
     def add_spec(self, spec) -> None:
         """Add the grid of a campaign spec (the writer's own)."""
-        if spec.auto is None:
+        if not spec.adaptive:
             self.keys |= {j.key for j in spec.jobs}
             if "n_side" in spec.sweep:
                 self.sizes.update({j.key: dict(j.extra)["n_side"] for j in spec.jobs})
@@ -160,23 +160,26 @@ class GridIndex:
         """The brush size of a record of a grid sweeping n_side, found from its key (for a
         record without a stored scene to read it from); None when no such grid holds it."""
         n = self.sizes.get(rec.get("key"))
-        if n is None and rec.get("preload_kind") == "F_P":
+        if n is None and rec.get("preload_kind") in ("F_P", "d_tilde"):
             n = next((m for spec in self.auto
                       for m in _auto_sizes(spec, self._path_set(spec), rec)), None)
         return n
 
-    def _path_set(self, spec) -> frozenset:
+    def _path_set(self, spec):
         """The loading paths of an auto grid of this index, as a set made once (a file of many
-        records asks for every record)."""
+        records asks for every record); a search grid's open set (:meth:`holds_path`)."""
         got = self._paths.get(id(spec))
         if got is None:
-            got = self._paths[id(spec)] = frozenset(spec.paths())
+            got = self._paths[id(spec)] = (_Open(spec) if spec.search
+                                           else frozenset(spec.paths()))
         return got
 
     def _auto_job(self, rec: dict) -> bool:
-        if not self.auto or rec.get("preload_kind") != "F_P":
+        if not self.auto:
             return False
         for spec in self.auto:
+            if rec.get("preload_kind") != spec.preload_kind:
+                continue
             try:
                 path = spec.record_path(rec)
             except (KeyError, TypeError, ValueError):
@@ -191,8 +194,20 @@ class GridIndex:
         return False
 
 
+class _Open:
+    """The paths of a search grid, which are chosen while it runs: ``in`` asks the grid."""
+
+    def __init__(self, spec):
+        self.spec = spec
+
+    def __contains__(self, path) -> bool:
+        return self.spec.holds_path(path)
+
+
 def _auto_key(spec, path, rec) -> str | None:
     """The key of the job of an auto grid's ``path`` at the record's preload (None: none)."""
+    if spec.auto is None and rec.get("preload") not in spec.preloads:
+        return None
     try:
         return spec.auto_task(path, [rec.get("preload")]).jobs[0].key
     except Exception:  # noqa: BLE001 - a preload the grid cannot hold
