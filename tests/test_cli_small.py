@@ -116,6 +116,7 @@ def test_ctrl_c_on_fibril_run_is_one_line_and_75(tmp_path):
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHIPPED = {"demo": "campaigns/demo.yaml", "paper": "campaigns/paper.yaml",
            "finite_size": "campaigns/finite_size.yaml",
+           "critical_roughness": "campaigns/critical_roughness.yaml",
            "campaign.sbatch": "slurm/campaign.sbatch", "array.sbatch": "slurm/array.sbatch",
            "chain.sh": "slurm/chain.sh"}
 

@@ -67,7 +67,7 @@ class Progress:
         """Done, failed and running jobs (and whether rounds may add jobs)."""
         text = (f"{self.done_before + self.done} done, {self.failed_before + self.failed} "
                 f"failed, {self.running} running")
-        return text + ("; F_P: auto rounds may add jobs" if self.growing else "")
+        return text + ("; auto rounds may add jobs" if self.growing else "")
 
     def line(self) -> str:
         """The progress text: jobs finished, done, failed, running, elapsed, ETA."""
