@@ -75,6 +75,13 @@ def test_without_a_bracket_the_page_says_which_side():
     assert st.loss_kind == loss.NO_LOSS and st.loss_bracket == (2.1, math.inf)
     assert "no loss up to sigma~ = 2.1 (the largest run)" in st.loss_note
     assert math.isnan(st.sigma_loss)
+    assert st.loss_vs_law == loss.AGREE and "not lost up to sigma~ = 2.1" in st.loss_vs_law_why
+    # alpha/beta's zero far out with beta consistent with 0: no sigma~_c to compare, not "agree"
+    for draw in range(3):
+        pts, _ = law_campaign(2.0, 0.05, (0.07, 0.164, 0.384, 0.898, 2.1), seeds=3, rng=draw)
+        st = study_k(1.0, pts, n_boot=40, floor=FLOOR)
+        assert st.loss_kind == loss.NO_LOSS and st.loss_vs_law == ""
+        assert st.beta_ci[0] > 0 or "consistent with 0" in st.loss_vs_law_why
     # lost at every sigma~ run: the loss lies below the smallest
     pts, _ = loss_campaign(0.5, (0.8, 1.0, 1.3), 3, rng=2)
     st = study_k(1.0, pts, n_boot=40, floor=FLOOR)

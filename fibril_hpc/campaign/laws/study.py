@@ -24,7 +24,9 @@ sigma~_c is undefined.
 **The measured loss** (:mod:`.loss`): per k~ the sigma~ where the seed-mean plateau crosses the
 loss threshold between the last group holding adhesion and the first lost one, its interval
 from the same replicates (the plateaus of those two groups), and whether alpha/beta's sigma~_c
-agrees with it (``loss_vs_law``), independently of the statuses above.
+agrees with it (``loss_vs_law``), independently of the statuses above; where beta is consistent
+with 0 the law shows no sigma~_c and no agreement is claimed (an interval still wholly beyond
+the loss is named).
 """
 
 from __future__ import annotations
@@ -265,9 +267,16 @@ def judge(st: KStudy) -> KStudy:
                           "measurement")
     else:
         st.sigma_c_status, st.sigma_c_why = "measured", ""
-    sc = ab.sigma_c if ab.ok else math.nan
     st.loss_vs_law, st.loss_vs_law_why = _loss.compare(
-        st.loss_kind, st.loss_bracket, st.sigma_loss, st.sigma_loss_ci, sc, st.sigma_c_ci)
+        st.loss_kind, st.loss_bracket, st.sigma_loss, st.sigma_loss_ci,
+        ab.sigma_c if ab.ok else math.nan, st.sigma_c_ci)
+    if st.loss_vs_law == _loss.AGREE and beta_is_zero(st):
+        # a zero the law does not show agrees with anything: say so instead of "agree" (a law
+        # whose sigma~_c interval still lies wholly beyond the loss is named all the same)
+        st.loss_vs_law = ""
+        st.loss_vs_law_why = (f"beta = {ab.beta:.3g} [{st.beta_ci[0]:.3g}, {st.beta_ci[1]:.3g}]"
+                              " is consistent with 0: alpha/beta shows no sigma~_c to agree "
+                              "with the measured loss")
     return st
 
 
