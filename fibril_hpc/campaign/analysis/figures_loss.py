@@ -50,7 +50,7 @@ def _c_panel(ax, st, gs):
     lost = [g for g in gs if g.reading.state == LOST]
     if lost:
         ax.plot([g.sigma_tilde for g in lost], [0.0] * len(lost), "X", ms=8, color=LOST_C,
-                label="adhesion lost (c = 0)", zorder=5)
+                label="adhesion lost (c = 0)", zorder=7)
     x0, x1 = ax.get_xlim()
     a = st.ab
     if a.ok:
@@ -148,6 +148,8 @@ def loss(data, out_dir, name="sigma_c_loss.png"):
         x1 = max(xs) * 1.08
         if st.ab.ok and math.isfinite(st.ab.sigma_c) and st.ab.sigma_c < 4 * st.loss_bracket[1]:
             x1 = max(x1, st.ab.sigma_c * 1.1)     # the law's zero in view when it overshoots
+        # every group in view: lost ones up to the law's zero show where its c = 0 points lie
+        gs = [g for g in st.groups if min(xs) <= g.sigma_tilde <= x1]
         for ax in (top, bot):
             ax.set_xlim(min(xs) - 0.08 * (x1 - min(xs)), x1)
             _marks(ax, st)
