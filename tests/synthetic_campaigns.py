@@ -112,3 +112,43 @@ def law_campaign(alpha, beta, sigmas, seeds, shape="smooth", plateau=1.5, preloa
         out[s] = group(t, seeds, pre, rng=rng)
         truths[s] = t
     return out, truths
+
+
+#: the loss threshold of the synthetic campaigns (``FEW_PILLARS`` pillars' pull-off)
+LOSS = reading.FEW_PILLARS * FLOOR
+
+
+def loss_plateau(sigma, sigma_c, fade=3.0, top=1.5, after=None):
+    """The plateau of a campaign losing adhesion at a known ``sigma_c``: a fade,
+    min(top, LOSS (sigma_c/sigma)^fade), which crosses the loss threshold exactly at sigma_c
+    (a power law: log-log interpolation is exact); or, with ``fade=None``, a sharp loss: ``top``
+    below sigma_c and ``after`` (default 2.5 pillars' pull-off) from sigma_c on."""
+    if fade is None:
+        return top if sigma < sigma_c else (2.5 * FLOOR if after is None else after)
+    return min(top, LOSS * (sigma_c / sigma) ** fade)
+
+
+def loss_campaign(sigma_c, sigmas, seeds, alpha=None, beta=None, fade=3.0, top=1.5, rng=None,
+                  c_sd=0.05, P_sd=0.03, creep=None):
+    """{sigma~: points} of one k~ whose plateau is :func:`loss_plateau` (lost from ``sigma_c``
+    on, known exactly) and whose c (as the report reads it) follows max(alpha/sigma~ - beta, 0)
+    where the plateau holds adhesion (default alpha/beta = sigma_c, beta = 1: the law true).
+    A lost group still creeps, from the floor to its plateau of one to three pillars at slope
+    ``creep`` (default 10 x its plateau), so its plateau is the truth's; the creep's secant is how
+    loosely its c = 0 holds the alpha/beta line. Sharp rises, preloads x 1.5 apart from well below
+    the rise to well above the plateau. Returns (points, {sigma~: Truth})."""
+    rng = np.random.default_rng(rng)
+    beta = 1.0 if beta is None else beta
+    alpha = sigma_c * beta if alpha is None else alpha
+    out, truths = {}, {}
+    for s in sigmas:
+        P = loss_plateau(s, sigma_c, fade, top)
+        c = max(alpha / s - beta, 0.0)
+        if P <= LOSS or c == 0:
+            c = 10.0 * P if creep is None else creep      # the few pillars' creep
+        t = Truth("sharp", c, P, c_sd=c_sd, P_sd=P_sd)
+        hi = 4 * P / c
+        pre = tuple(float(v) for v in np.geomspace(hi / 4000, hi, 22).round(12))
+        out[s] = group(t, seeds, pre, rng=rng)
+        truths[s] = t
+    return out, truths

@@ -18,7 +18,7 @@ PRELOADS = [0.001 * 2**i for i in range(15)]    # x 2 apart, as F_P: auto bracke
 ALPHA, BETA = 0.5, 0.25                         # sigma~_c = 2
 PLATEAU = {0.1: 1.8, 0.2: 1.2, 0.4: 0.7, 3.0: 0.01}
 FIGURES = ("FA_vs_FP.png", "c_vs_sigma.png", "c0_vs_sigma.png", "plateau.png",
-           "alpha_sigma_c.png", "curves.png")
+           "alpha_sigma_c.png", "sigma_c_loss.png", "curves.png")
 TABLES = ("alpha_beta.csv", "plateau.csv", "coefficients.csv", "law_comparison.csv")
 
 
@@ -77,6 +77,14 @@ def test_report_reads_the_known_plateau_c_and_alpha_beta(tmp_path):
     (ab,) = _rows(out / "alpha_beta.csv")
     assert ab["n_c_zero"] == "1" and ab["bracket_c_zero_from"] == "3.0"
     assert float(ab["sigma_tilde_c_lo"]) <= float(ab["sigma_tilde_c"]) <= 3.0
+    # the measured loss: the plateau (0.7 at 0.4, 0.01 at 3) crosses 3 pillars' pull-off at
+    # 0.4 x 7.5^(ln(0.7/0.0248)/ln 70) = 1.95 (log-log); alpha/beta = 2 lies in the bracket
+    assert ab["loss_kind"] == "bracket"
+    assert (ab["loss_bracket_lo"], ab["loss_bracket_hi"]) == ("0.4", "3.0")
+    assert float(ab["sigma_tilde_c_measured"]) == pytest.approx(1.95, rel=0.05)
+    assert 0.4 <= float(ab["sigma_tilde_c_measured_lo"]) <= float(ab["sigma_tilde_c_measured"]) \
+        <= float(ab["sigma_tilde_c_measured_hi"]) <= 3.0
+    assert ab["loss_vs_law"] == "agree"
     page = (out / "README.md").read_text()
     assert page.splitlines()[2].startswith("**alpha and beta fitted within the seed scatter "
                                            "for k~ = 1")

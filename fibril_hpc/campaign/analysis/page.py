@@ -48,6 +48,11 @@ DEFINITIONS = """\
   adhesion (an extrapolation); where one did, the model-free data bracket (largest σ̃ with c > 0,
   smallest with c = 0) is the measurement: α/β inside it is *pinned* by the c = 0 point, outside
   it *undefined* (the line crosses 0 beyond the measured loss).
+* **Measured σ̃_c** (model-free): per k̃, the first lost σ̃ with a σ̃ holding adhesion below it
+  brackets the loss; σ̃_c is where the seed-mean plateau crosses 3 pillars' pull-off between the
+  two (log–log), its interval from the same bootstrap. *α/β against the measured loss*: they
+  agree when α/β's seed interval overlaps the bracket; *law above* (it overshoots: c > 0 where
+  adhesion is lost) or *below* when it lies wholly beyond it.
 * **Errors**: [seed CI] is a bootstrap over seeds (seed labels resampled jointly for a k̃, every
   reading redone), its 2.5–97.5 % range widened about the value by t/z·√(n/(n−1)) for n seeds
   (over synthetic groups of known truth it then held the true c in 90 % of draws at 3 seeds and

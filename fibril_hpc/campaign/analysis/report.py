@@ -2,8 +2,9 @@
 
 The orchestrator: it reads the campaign (:func:`.data.load_campaign`), turns it into numbers
 (:func:`.report_data.build`: the plateau, c, c0 per (k~, sigma~), alpha/beta per k~, seed
-intervals, the preset's bias, the law comparison; per n_side for a grid sweeping it), draws the
-figures (:mod:`.figures`, :mod:`.figures_coeff`, :mod:`.figures_size`), writes the tables
+intervals, the preset's bias, the law comparison, the measured loss; per n_side for a grid
+sweeping it), draws the figures (:mod:`.figures`, :mod:`.figures_coeff`, :mod:`.figures_loss`,
+:mod:`.figures_size`), writes the tables
 (:mod:`.tables`) as CSV, and the pages (:mod:`.page`): ``README.md`` and the self-contained
 ``report.html``. Any file ``status`` reads, it reads: a campaign with nothing to fit gets a page
 that says why.
@@ -15,7 +16,7 @@ import os
 import time
 
 from ...io.files import write_text_atomically
-from . import figures, figures_coeff, figures_size, page, tables
+from . import figures, figures_coeff, figures_loss, figures_size, page, tables
 from ..laws.study import N_BOOT
 from .data import load_campaign
 from .report_data import build
@@ -62,6 +63,8 @@ def write_report(path: str, out_dir: str, n_boot: int = N_BOOT,
         ("First-contact slope c₀ against roughness", figures_coeff.c0_vs_sigma(d, out_dir)),
         ("Plateau against roughness and against stiffness", figures_coeff.plateau(d, out_dir)),
         ("α, β and σ̃_c against stiffness", figures_coeff.alpha_sigma_c(d, out_dir)),
+        ("Where adhesion is lost: c and the plateau against roughness near the loss, the "
+         "measured σ̃_c beside α/β's zero", figures_loss.loss(d, out_dir)),
         ("Force and contact area against indentation (loading and unloading)",
          figures.curves(chosen_curve_jobs(jobs, d.studies), out_dir)),
     ]

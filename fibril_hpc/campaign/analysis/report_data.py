@@ -25,6 +25,9 @@ from ..laws.intervals import dominant, preset_bias
 from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED, levels, pillar_floor
 from ..laws.size import DIFFERS, WITHIN, size_rows
 from ..laws.study import N_BOOT, beta_is_zero, study
+from .loss_page import headline_lines as loss_lines
+from .seed_limits import headline_line as seeds_line
+from .seed_limits import seed_limits, seeds_auto
 from .variants import Variant, select
 
 #: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
@@ -78,6 +81,10 @@ class ReportData:
     #: one pillar's pull-off on the report's scale (:func:`.laws.reading.pillar_floor`), and how
     floor: float = math.nan
     floor_note: str = ""
+    #: ``seeds: auto`` of the grid ({start, max, width}) or None, and the groups that hit its
+    #: maximum short of the target (:mod:`.seed_limits`)
+    seeds_auto: dict | None = None
+    seed_limits: list = field(default_factory=list)
 
     def main_jobs(self, jobs) -> list:
         """The jobs the per-(k~, sigma~) readings use: those of :attr:`variant` and
@@ -266,6 +273,7 @@ def headline(d: ReportData) -> list:
                         ("pinned to the data bracket for k~ = " + ks(f"{k:g}" for k in sc["pinned"])
                          + " (the bracket is the measurement)") if sc["pinned"] else "") if p)
                      + "; elsewhere undefined (see the alpha/beta table).")
+    lines += loss_lines(d.studies)
     states: dict = {}
     for st in d.studies.values():
         for g in st.groups:
@@ -294,6 +302,8 @@ def headline(d: ReportData) -> list:
             f"{name}: the seeds in {v.count('seeds')}, the discretisation in "
             f"{v.count('discretisation')} of {len(v)} (k~, sigma~)" for name, v in dom.items())
             + ".")
+    if d.seeds_auto:
+        lines.append(seeds_line(d.seeds_auto, d.seed_limits))
     if d.n_sides:
         lines.append(size_headline(d))
     if math.isfinite(d.bias):
@@ -368,6 +378,7 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
                    sum(1 for j in done if not _finite(j)), kms, preset, bias, note, studies,
                    law_rows(points, studies), {k: levels(*p) for k, p in points.items()},
                    n_boot=n_boot, n_sides=n_sides, n_side=n_read, size=rows, variant=variant,
-                   floor=floor, floor_note=floor_note)
+                   floor=floor, floor_note=floor_note, seeds_auto=seeds_auto(c.meta))
+    d.seed_limits = seed_limits(points, floor, d.seeds_auto)
     d.headline = headline(d)
     return d

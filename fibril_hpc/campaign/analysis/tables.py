@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 from ..laws.intervals import dominant
 from ..laws.size import DIFFERS
+from .loss_page import measured_cell, verdict_cell
 
 
 @dataclass
@@ -100,21 +101,27 @@ def alpha_beta(d) -> Table:
                        "beta_hi", "sigma_tilde_c", "sigma_tilde_c_lo", "sigma_tilde_c_hi",
                        "sigma_tilde_c_status", "bracket_c_positive_up_to", "bracket_c_zero_from",
                        "n_sigma_in_fit", "n_c_zero", "chi2_per_dof", "poor_fit", "bias_rel",
-                       "dominant_alpha", "ci_method", "note"])
-    t.page_rows.append(["k̃", "law", "data bracket of σ̃_c (model-free)", "α [seed CI]",
-                        "β [seed CI]", "σ̃_c = α/β [seed CI]", "σ̃ in fit (c = 0)", "χ²/dof",
+                       "dominant_alpha", "ci_method", "sigma_tilde_c_measured",
+                       "sigma_tilde_c_measured_lo", "sigma_tilde_c_measured_hi", "loss_kind",
+                       "loss_bracket_lo", "loss_bracket_hi", "loss_vs_law", "loss_vs_law_why",
+                       "note"])
+    t.page_rows.append(["k̃", "law", "σ̃_c measured: adhesion lost [seed CI] in its bracket "
+                        "(model-free)", "α [seed CI]", "β [seed CI]", "σ̃_c = α/β [seed CI]",
+                        "α/β against the measured loss", "σ̃ in fit (c = 0)", "χ²/dof",
                         "bias of α", "larger error", "note"])
     for k, st in d.studies.items():
         a = st.ab
-        note = "; ".join([w for w in (st.status_why, st.sigma_c_why) if w] + a.notes + st.notes)
-        br = (f"({fmt(a.bracket[0], 'g')}, {fmt(a.bracket[1], 'g')}]"
-              if any(math.isfinite(x) for x in a.bracket) else "—")
+        note = "; ".join([w for w in (st.status_why, st.sigma_c_why) if w]
+                         + ([st.loss_vs_law_why] if st.loss_vs_law else [st.loss_note])
+                         + a.notes + st.notes)
         dom = dominant(a.alpha, st.alpha_ci, d.bias)
         t.csv_rows.append([repr(k), st.status, num(a.alpha), *_ci_csv(st.alpha_ci), num(a.beta),
                            *_ci_csv(st.beta_ci), num(a.sigma_c), *_ci_csv(st.sigma_c_ci),
                            st.sigma_c_status, num(a.bracket[0]), num(a.bracket[1]),
                            str(a.n_points), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
-                           num(d.bias), dom, st.ci_method, note])
+                           num(d.bias), dom, st.ci_method, num(st.sigma_loss),
+                           *_ci_csv(st.sigma_loss_ci), st.loss_kind, num(st.loss_bracket[0]),
+                           num(st.loss_bracket[1]), st.loss_vs_law, st.loss_vs_law_why, note])
         shown = st.status != "undefined"
         law = st.status if st.status == "fitted" else f"**{st.status}**"
         if st.sigma_c_status == "measured":
@@ -123,10 +130,10 @@ def alpha_beta(d) -> Table:
             sc = f"{fmt(a.sigma_c, '.3g')} (**pinned** to the bracket)"
         else:
             sc = "undefined"
-        t.page_rows.append([f"{k:g}", law, br,
+        t.page_rows.append([f"{k:g}", law, measured_cell(st),
                             val_ci(a.alpha, st.alpha_ci) if shown else "undefined",
                             val_ci(a.beta, st.beta_ci) if shown else "undefined", sc,
-                            f"{a.n_points} ({a.n_zero})", fmt(a.chi2_red, ".3g")
+                            verdict_cell(st), f"{a.n_points} ({a.n_zero})", fmt(a.chi2_red, ".3g")
                             + (" **poor fit**" if a.poor else ""),
                             bias_cell(a.alpha, d.bias) if shown else "—", dom, note])
     return t
@@ -151,6 +158,7 @@ def plateau(d) -> Table:
     t.page_rows.append(["k̃", "σ̃", "plateau [seed CI]", "plateau", "state of the rise",
                         "read from F̃_P ≥", "F̃_A at the largest full level (seed range)",
                         "seeds (per level if they differ)", "bias", "larger error", "note"])
+    at_max = {(x.k_tilde, x.sigma_tilde): x.what() for x in d.seed_limits}
     for k, st in d.studies.items():
         for g in st.groups:
             r = g.reading
@@ -158,7 +166,8 @@ def plateau(d) -> Table:
             full = [] if lv is None else [i for i in range(len(lv)) if not lv.thin[i]]
             top = float(lv.F_P[full[-1]]) if full else math.nan
             dom = dominant(r.plateau, g.plateau_ci, d.bias)
-            note = "; ".join(r.notes)
+            lim = at_max.get((k, g.sigma_tilde))
+            note = "; ".join(r.notes + ([lim] if lim else []))
             t.csv_rows.append([repr(k), repr(g.sigma_tilde), num(r.plateau),
                                *_ci_csv(g.plateau_ci), r.plateau_state, num(r.plateau_from),
                                str(r.n_plateau), num(top), num(r.top_lo), num(r.top_hi),
@@ -168,7 +177,8 @@ def plateau(d) -> Table:
             t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", val_ci(r.plateau, g.plateau_ci),
                                 state, _state_cell(r), fmt(r.plateau_from, ".3g"),
                                 f"{fmt(r.top_lo)} … {fmt(r.top_hi)} at {fmt(top, '.3g')}",
-                                _seed_counts(r), bias_cell(r.plateau, d.bias), dom, note])
+                                _seed_counts(r), bias_cell(r.plateau, d.bias), dom,
+                                "; ".join(r.notes + ([f"**{lim}**"] if lim else []))])
     return t
 
 

@@ -20,6 +20,13 @@ Where a sigma~ lost adhesion the model-free bracket (the largest sigma~ with c >
 with c = 0) is the measurement: alpha/beta inside it is *pinned* by the c = 0 point (it only says
 where inside the line crosses), outside it (the line crossing 0 beyond the measured loss)
 sigma~_c is undefined.
+
+**The measured loss** (:mod:`.loss`): per k~ the sigma~ where the seed-mean plateau crosses the
+loss threshold between the last group holding adhesion and the first lost one, its interval
+from the same replicates (the plateaus of those two groups), and whether alpha/beta's sigma~_c
+agrees with it (``loss_vs_law``), independently of the statuses above; where beta is consistent
+with 0 the law shows no sigma~_c and no agreement is claimed (an interval still wholly beyond
+the loss is named).
 """
 
 from __future__ import annotations
@@ -30,8 +37,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .alphabeta import ABFit, fit_alpha_beta, t_interval
+from . import loss as _loss
 from .intervals import expanded, percentile_interval, replicate_sd, seed_replicates
-from .reading import HALF, LOST, UNDETERMINED, UNRESOLVED, Reading, read_group
+from .reading import FEW_PILLARS, HALF, LOST, UNDETERMINED, UNRESOLVED, Reading, read_group
 
 N_BOOT = 400
 NAN2 = (math.nan, math.nan)
@@ -71,6 +79,16 @@ class KStudy:
     #: "measured", "pinned" (inside the data bracket) or "undefined", with the reason
     sigma_c_status: str = "undefined"
     sigma_c_why: str = ""
+    #: the measured loss (:mod:`.loss`): its kind, bracket (lo, hi], sigma~_c where the plateau
+    #: crosses the loss threshold, its seed interval and the page's sentence
+    loss_kind: str = _loss.NOT_READ
+    loss_bracket: tuple = NAN2
+    sigma_loss: float = math.nan
+    sigma_loss_ci: tuple = NAN2
+    loss_note: str = ""
+    #: alpha/beta's sigma~_c against the measured loss (:func:`.loss.compare`), with the reason
+    loss_vs_law: str = ""
+    loss_vs_law_why: str = ""
 
 
 def _resample(pts, labels):
@@ -149,6 +167,7 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
                   else "bootstrap off: no seed interval")
     ab = fit_alpha_beta(*_ab_points(groups))
     st = KStudy(float(k_tilde), groups, ab, ci_method=method, notes=notes)
+    _measure_loss(st, None if reps is None else reps[0::3], floor)
     if not ab.ok:
         return judge(st)
     dof = ab.n_points - 2
@@ -179,6 +198,17 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     if unb > 0:
         notes.append(f"beta <= 0 in {100 * unb:.0f} % of the resamples: sigma~_c unbounded above")
     return judge(st)
+
+
+def _measure_loss(st: KStudy, plateau_reps, floor: float) -> None:
+    """Set the measured loss of ``st`` (:func:`.loss.measure`) from its groups and the bootstrap
+    replicates of their plateaus (one row per group, or None)."""
+    gs = st.groups
+    m = _loss.measure([g.sigma_tilde for g in gs], [g.reading.state for g in gs],
+                      [g.reading.plateau for g in gs], FEW_PILLARS * floor, plateau_reps,
+                      [g.n_seeds for g in gs])
+    st.loss_kind, st.loss_bracket, st.loss_note = m["kind"], m["bracket"], m["note"]
+    st.sigma_loss, st.sigma_loss_ci = m["sigma"], m["ci"]
 
 
 def _nonneg(ci: tuple) -> tuple:
@@ -226,7 +256,7 @@ def judge(st: KStudy) -> KStudy:
         st.sigma_c_status = "undefined"
         st.sigma_c_why = (f"beta = {ab.beta:.3g} [{st.beta_ci[0]:.3g}, {st.beta_ci[1]:.3g}] is "
                           f"consistent with 0: the law does not show c reaching 0; {br}")
-    elif math.isfinite(lo) and math.isfinite(hi) and lo <= ab.sigma_c <= hi * 1.05:
+    elif math.isfinite(lo) and math.isfinite(hi) and lo <= ab.sigma_c <= hi * _loss.TOL:
         st.sigma_c_status = "pinned"
         st.sigma_c_why = (f"alpha/beta = {ab.sigma_c:.3g} lies in {br}: the line's zero is set "
                           f"by the c = 0 point at sigma~ = {hi:g}; the bracket is the measurement")
@@ -237,6 +267,16 @@ def judge(st: KStudy) -> KStudy:
                           "measurement")
     else:
         st.sigma_c_status, st.sigma_c_why = "measured", ""
+    st.loss_vs_law, st.loss_vs_law_why = _loss.compare(
+        st.loss_kind, st.loss_bracket, st.sigma_loss, st.sigma_loss_ci,
+        ab.sigma_c if ab.ok else math.nan, st.sigma_c_ci)
+    if st.loss_vs_law == _loss.AGREE and beta_is_zero(st):
+        # a zero the law does not show agrees with anything: say so instead of "agree" (a law
+        # whose sigma~_c interval still lies wholly beyond the loss is named all the same)
+        st.loss_vs_law = ""
+        st.loss_vs_law_why = (f"beta = {ab.beta:.3g} [{st.beta_ci[0]:.3g}, {st.beta_ci[1]:.3g}]"
+                              " is consistent with 0: alpha/beta shows no sigma~_c to agree "
+                              "with the measured loss")
     return st
 
 

@@ -1,0 +1,66 @@
+"""The page's words on the measured loss of adhesion (:mod:`..laws.loss`): per k~ where adhesion
+is lost along sigma~ (model-free), and where alpha/beta's extrapolated sigma~_c disagrees with
+it, in plain words. Inputs: the per-k~ studies (:class:`..laws.study.KStudy`)."""
+
+from __future__ import annotations
+
+from ..laws import loss as _loss
+from ..laws.loss import fmt_ci
+from ..laws.reading import FEW_PILLARS
+
+
+def measured_cell(st) -> str:
+    """The measured sigma~_c of one k~ for a table cell: 'value [CI] in (lo, hi]', or the bound."""
+    lo, hi = st.loss_bracket
+    if st.loss_kind == _loss.BRACKET:
+        return f"{fmt_ci(st.sigma_loss, st.sigma_loss_ci)} in ({lo:.4g}, {hi:.4g}]"
+    if st.loss_kind == _loss.NO_LOSS:
+        return f"> {lo:g} (no loss up to the largest σ̃ run)"
+    if st.loss_kind == _loss.ALL_LOST:
+        return f"< {hi:g} (lost at every σ̃ run)"
+    return "—"
+
+
+def verdict_cell(st) -> str:
+    """alpha/beta against the measured loss for a table cell: a disagreement in bold."""
+    if not st.loss_vs_law:
+        return "—"
+    return st.loss_vs_law if st.loss_vs_law == _loss.AGREE else f"**{st.loss_vs_law}**"
+
+
+def headline_lines(studies: dict) -> list:
+    """The headline's lines: where adhesion is lost per k~, then every k~ whose alpha/beta
+    sigma~_c disagrees with it (one line each), then those that agree."""
+    if not studies:
+        return []
+    by: dict = {}
+    for k, st in studies.items():
+        by.setdefault(st.loss_kind, []).append((k, st))
+    parts = []
+    if by.get(_loss.BRACKET):
+        parts.append("; ".join(f"k~ = {k:g} at {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} "
+                               f"(bracket {st.loss_bracket[0]:g}-{st.loss_bracket[1]:g})"
+                               for k, st in by[_loss.BRACKET]))
+    if by.get(_loss.NO_LOSS):
+        parts.append("no loss up to the largest sigma~ run for k~ = " + ", ".join(
+            f"{k:g} (sigma~_c > {st.loss_bracket[0]:g})" for k, st in by[_loss.NO_LOSS]))
+    if by.get(_loss.ALL_LOST):
+        parts.append("lost at every sigma~ run for k~ = " + ", ".join(
+            f"{k:g} (sigma~_c < {st.loss_bracket[1]:g})" for k, st in by[_loss.ALL_LOST]))
+    if by.get(_loss.NOT_READ):
+        parts.append("not measured for k~ = " + ", ".join(f"{k:g}" for k, _ in by[_loss.NOT_READ]))
+    lines = ["Measured sigma~_c (model-free: where the seed-mean plateau falls to "
+             f"{FEW_PILLARS:g} pillars' pull-off, interpolated between the last sigma~ holding "
+             "adhesion and the first lost): " + "; ".join(parts) + "."]
+    bad = [(k, st) for k, st in studies.items()
+           if st.loss_vs_law in (_loss.ABOVE, _loss.BELOW)]
+    for k, st in bad:
+        lines.append(f"**k~ = {k:g}: {st.loss_vs_law_why}.**")
+    good = [k for k, st in studies.items() if st.loss_vs_law == _loss.AGREE]
+    if good:
+        lines.append("alpha/beta's sigma~_c agrees with the measured loss for k~ = "
+                     + ", ".join(f"{k:g}" for k in good) + ".")
+    return lines
+
+
+__all__ = ["measured_cell", "verdict_cell", "headline_lines"]

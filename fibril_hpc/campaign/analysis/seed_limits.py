@@ -1,0 +1,112 @@
+"""``seeds: auto`` on the report's page: which (k~, sigma~) ran up to the grid's maximum of seeds
+without meeting its precision target, and what is still short.
+
+A grid may leave the number of seeds to the campaign (``seeds: {auto: {start, max, width}}``):
+a group gets seeds until its numbers are known to the relative ``width``, at most ``max``. The
+report judges every group holding ``max`` seeds (or more) with the planner's own rule,
+:func:`..laws.precision.group_precision` (the plateau and c within ``width``, or a lost group's
+state decided), and names those that stopped at the maximum short of the target: their seed
+intervals are as wide as the campaign could make them, not as wide as was asked.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..laws.precision import group_precision
+
+#: what a ``seeds: auto`` mapping leaves out (the grid's resolved YAML normally holds all three)
+DEFAULTS = {"start": 3, "max": 10, "width": 0.2}
+
+
+def seeds_auto(meta) -> dict | None:
+    """{start, max, width} of the file's grid when it says ``seeds: {auto: {...}}``, else None
+    (a count or a list of seeds; a grid text that is missing or not YAML)."""
+    import yaml
+
+    try:
+        grid = yaml.safe_load((meta or {}).get("campaign_yaml") or "") or {}
+    except yaml.YAMLError:
+        return None
+    seeds = grid.get("seeds") if isinstance(grid, dict) else None
+    auto = seeds.get("auto") if isinstance(seeds, dict) else None
+    if auto is None and isinstance(seeds, dict) and "auto" in seeds:
+        auto = {}
+    if not isinstance(auto, dict):
+        return None
+    out = dict(DEFAULTS)
+    try:
+        out.update({k: (float(v) if k == "width" else int(v)) for k, v in auto.items()
+                    if k in DEFAULTS and v is not None})
+    except (TypeError, ValueError):
+        return None
+    return out
+
+
+@dataclass
+class SeedLimit:
+    """One group at the maximum of seeds whose target is not met."""
+
+    k_tilde: float
+    sigma_tilde: float
+    n_seeds: int
+    max_seeds: int
+    prec: object                    # :class:`..laws.precision.Precision`
+    short: str                      # what is short, in words
+
+    def what(self) -> str:
+        """The page's words for this group (its table row's note)."""
+        return (f"hit the maximum of {self.max_seeds} seeds of seeds: auto ({self.n_seeds} run) "
+                f"short of the target: {self.short}")
+
+
+def shortfall(prec, width: float) -> str:
+    """What of ``prec`` (a :class:`..laws.precision.Precision`) misses the relative ``width``."""
+    parts = []
+    for what, w in zip(prec.short, prec.widths):
+        if what == "state":
+            lo, hi = prec.plateau_ci
+            ci = (f"[{lo:.3g}, {hi:.3g}]" if math.isfinite(lo) and math.isfinite(hi)
+                  else "undefined")
+            parts.append(f"the plateau's interval {ci} reaches the loss threshold "
+                         f"{prec.threshold:.3g}: lost or not is undecided")
+        else:
+            parts.append(f"{what} interval {100 * w:.0f} % wide" if math.isfinite(w)
+                         else f"{what} interval undefined")
+    return "; ".join(parts) + f" (target {100 * width:.0f} %)"
+
+
+def seed_limits(points: dict, floor: float, auto: dict | None) -> list:
+    """The :class:`SeedLimit` of every group in ``points`` ({(k~, sigma~): (seed, preload, F_P,
+    F_A)}) holding at least ``auto["max"]`` seeds whose target ``auto["width"]`` is not met; []
+    without ``seeds: auto``."""
+    if not auto:
+        return []
+    out = []
+    for (k, s), pts in sorted(points.items(), key=lambda kv: (-kv[0][0], kv[0][1])):
+        n = len(set(pts[0].tolist()))
+        if n < auto["max"]:
+            continue
+        prec = group_precision(*pts, floor, auto["width"])
+        if not prec.met:
+            out.append(SeedLimit(float(k), float(s), n, int(auto["max"]), prec,
+                                 shortfall(prec, auto["width"])))
+    return out
+
+
+def headline_line(auto: dict | None, limits: list) -> str:
+    """The page's line on ``seeds: auto`` ("" without it)."""
+    if not auto:
+        return ""
+    head = (f"seeds: auto (from {auto['start']}, at most {auto['max']} per (k~, sigma~), target: "
+            f"intervals {100 * auto['width']:.0f} % wide)")
+    if not limits:
+        return head + ": no (k~, sigma~) hit the maximum short of the target."
+    return (head + f": {len(limits)} (k~, sigma~) hit the maximum of seeds without meeting the "
+            "target (their intervals are as narrow as the campaign could make them, not as "
+            "asked): " + "; ".join(f"k~ = {x.k_tilde:g}, sigma~ = {x.sigma_tilde:g} "
+                                  f"({x.n_seeds} seeds: {x.short})" for x in limits) + ".")
+
+
+__all__ = ["seeds_auto", "seed_limits", "SeedLimit", "shortfall", "headline_line", "DEFAULTS"]

@@ -1,0 +1,111 @@
+"""``seeds: auto`` on the report's page: a group that ran up to the maximum of seeds short of its
+precision target is named with what is short; one meeting the target, or below the maximum, is
+not. A grid whose ``seeds`` or ``sigma_tilde`` is a mapping ``{auto: {...}}`` is read by report,
+status and export without a crash."""
+
+import csv
+
+import numpy as np
+import yaml
+
+from fibril_hpc.campaign.analysis import seed_limits as sl
+from fibril_hpc.campaign.analysis.data import CampaignData
+from fibril_hpc.campaign.analysis.report_data import build
+
+from synthetic_campaigns import FLOOR, Truth, group
+
+AUTO = {"start": 3, "max": 5, "width": 0.2}
+PRE = tuple(float(v) for v in np.geomspace(1.5 / 20 / 300, 12 / 20, 14))
+
+
+def _meta(seeds, sigma=(0.2, 0.4, 0.6)):
+    return {"campaign_yaml": yaml.safe_dump({
+        "scene": {"n_side": 18, "phi": 0.16, "preset": "fast"}, "k_tilde": [1.0],
+        "sigma_tilde": list(sigma) if isinstance(sigma, tuple) else sigma,
+        "F_P": PRE, "seeds": seeds})}
+
+
+def test_seeds_auto_is_read_from_the_grid_and_nothing_else_is():
+    assert sl.seeds_auto(_meta({"auto": AUTO})) == AUTO
+    assert sl.seeds_auto(_meta({"auto": {"max": 8}})) == dict(sl.DEFAULTS, max=8)
+    for seeds in (3, [0, 1, 2], {"auto": "many"}, {"auto": {"max": "x"}}):
+        assert sl.seeds_auto(_meta(seeds)) is None
+    assert sl.seeds_auto({"campaign_yaml": "{not yaml"}) is None and sl.seeds_auto({}) is None
+
+
+def _points():
+    """(k~, sigma~) -> points: 0.2 at the maximum and wide, 0.4 at the maximum and narrow, 0.6
+    wide with fewer seeds than the maximum."""
+    wide = Truth("sharp", 20.0, 1.5, c_sd=0.4, P_sd=0.3)
+    narrow = Truth("sharp", 20.0, 1.5, c_sd=0.005, P_sd=0.005)
+    return {(1.0, 0.2): group(wide, 5, PRE, rng=1), (1.0, 0.4): group(narrow, 5, PRE, rng=2),
+            (1.0, 0.6): group(wide, 3, PRE, rng=3)}
+
+
+def test_a_group_at_the_maximum_short_of_the_target_is_named_and_no_other():
+    lim = sl.seed_limits(_points(), FLOOR, AUTO)
+    assert [(x.k_tilde, x.sigma_tilde) for x in lim] == [(1.0, 0.2)]
+    assert not lim[0].prec.met and "plateau" in lim[0].prec.short
+    assert "hit the maximum of 5 seeds" in lim[0].what() and "(target 20 %)" in lim[0].what()
+    line = sl.headline_line(AUTO, lim)
+    assert line.startswith("seeds: auto (from 3, at most 5 per (k~, sigma~)")
+    assert "1 (k~, sigma~) hit the maximum of seeds" in line and "sigma~ = 0.2 (5 seeds:" in line
+    assert "sigma~ = 0.4" not in line and "sigma~ = 0.6" not in line
+    assert sl.headline_line(AUTO, []).endswith("no (k~, sigma~) hit the maximum short of the "
+                                               "target.")
+    assert sl.seed_limits(_points(), FLOOR, None) == [] and sl.headline_line(None, []) == ""
+
+
+def _jobs(points):
+    out = []
+    for (k, s), (seed, pre, x, y) in points.items():
+        for i, (sd, p, fp, fa) in enumerate(zip(seed, pre, x, y)):
+            out.append({"key": f"{k}-{s}-{sd}-{i}", "status": "done", "k_tilde": k,
+                        "sigma_tilde": s, "seed": int(sd), "preload": float(p),
+                        "F_P": float(fp), "F_A": float(fa), "k_machine": float("inf")})
+    return out
+
+
+def test_the_page_says_which_group_hit_the_maximum():
+    meta = _meta({"auto": AUTO}, sigma={"auto": {"start": [0.2, 0.6]}})
+    d = build(CampaignData(meta, _jobs(_points())), "x.h5", n_boot=40)
+    assert d.seeds_auto == AUTO and len(d.seed_limits) == 1
+    line = [x for x in d.headline if x.startswith("seeds: auto")]
+    assert len(line) == 1 and "sigma~ = 0.2 (5 seeds:" in line[0]
+    from fibril_hpc.campaign.analysis import tables
+
+    rows = {r[1]: r for r in tables.plateau(d).page_rows[1:]}
+    assert "**hit the maximum of 5 seeds" in rows["0.2"][-1]
+    assert "hit the maximum" not in rows["0.4"][-1] and "hit the maximum" not in rows["0.6"][-1]
+
+
+def test_report_status_and_export_read_a_grid_whose_seeds_and_sigma_are_auto(tmp_path):
+    from fibril_hpc.campaign.plan.spec import spec_from_dict
+    from fibril_hpc.campaign.storage import store
+    from fibril_hpc.cli.campaign import main
+    from fibril_hpc.inputs.config import scene_to_yaml
+
+    grid = {"output": "auto.h5", "scene": {"n_side": 18, "preset": "fast"}, "k_tilde": [1],
+            "sigma_tilde": [0.2, 0.4], "F_P": list(PRE), "seeds": 5}
+    spec = spec_from_dict(grid, base_dir=str(tmp_path))
+    pts = _points()
+    fa = {(k, s, int(sd), float(p)): float(y) for (k, s), (seed, pre, _, ys) in pts.items()
+          for sd, p, y in zip(seed, pre, ys)}
+    recs = [{**j.inputs(), "status": "done", "message": "", "F_P": j.preload,
+             "F_A": fa[(float(j.k_tilde), float(j.sigma_tilde), j.seed, float(j.preload))],
+             "record_id": f"{j.index:032x}", "finished": store.now(), "group_size": len(PRE),
+             "wall_s": 0.0, "scene_yaml": scene_to_yaml(spec.job_scene(j))} for j in spec.jobs]
+    root = store.root_attrs_for(spec)
+    g = yaml.safe_load(root["campaign_yaml"])
+    g["seeds"] = {"auto": AUTO}
+    g["sigma_tilde"] = {"auto": {"start": [0.2, 0.4]}}
+    root["campaign_yaml"] = yaml.safe_dump(g)
+    store.write_merged(spec.output, root, recs)
+    out = tmp_path / "rep"
+    assert main(["report", spec.output, "--out", str(out), "--n-boot", "30"]) == 0
+    page = (out / "README.md").read_text()
+    assert "seeds: auto (from 3, at most 5" in page and "sigma~ = 0.2 (5 seeds:" in page
+    assert main(["status", spec.output]) == 0
+    assert main(["export", spec.output, "--csv", str(tmp_path / "o.csv")]) == 0
+    rows = list(csv.DictReader((tmp_path / "o.csv").read_text().splitlines()))
+    assert len(rows) == len(recs)
