@@ -27,7 +27,10 @@ def _meta(seeds, sigma=(0.2, 0.4, 0.6)):
 
 def test_seeds_auto_is_read_from_the_grid_and_nothing_else_is():
     assert sl.seeds_auto(_meta({"auto": AUTO})) == AUTO
-    assert sl.seeds_auto(_meta({"auto": {"max": 8}})) == dict(sl.DEFAULTS, max=8)
+    from fibril_hpc.campaign.plan.search import AutoSeeds
+
+    assert sl.seeds_auto(_meta({"auto": {"max": 8}})) == dict(AutoSeeds().to_dict(), max=8)
+    assert sl.seeds_auto(_meta("auto")) == AutoSeeds().to_dict()     # the planner's defaults
     for seeds in (3, [0, 1, 2], {"auto": "many"}, {"auto": {"max": "x"}}):
         assert sl.seeds_auto(_meta(seeds)) is None
     assert sl.seeds_auto({"campaign_yaml": "{not yaml"}) is None and sl.seeds_auto({}) is None
@@ -109,3 +112,45 @@ def test_report_status_and_export_read_a_grid_whose_seeds_and_sigma_are_auto(tmp
     assert main(["export", spec.output, "--csv", str(tmp_path / "o.csv")]) == 0
     rows = list(csv.DictReader((tmp_path / "o.csv").read_text().splitlines()))
     assert len(rows) == len(recs)
+
+
+def test_coupled_resamples_give_every_group_a_bootstrap_of_its_own_seeds():
+    from fibril_hpc.campaign.laws.intervals import coupled_replicates
+
+    sets = [list(range(10)), [0, 1, 2], [0, 1, 2, 3, 4]]
+    seen = []
+
+    def stat(picks):
+        seen.append([list(p) for p in picks])
+        return [0.0]
+
+    assert coupled_replicates(sets, stat, 2000, 0).shape == (1, 2000)
+    for i, s in enumerate(sets):
+        picks = np.concatenate([np.asarray(r[i]) for r in seen])
+        assert all(len(r[i]) == len(s) for r in seen)            # never another size
+        counts = np.bincount(picks, minlength=len(s))
+        assert set(picks.tolist()) == set(s)
+        assert np.all(np.abs(counts / counts.sum() - 1 / len(s)) < 0.02)   # uniform
+    # sets sharing seeds are resampled alike: the first seed of the 3-set is picked with the
+    # first ones of the 10-set
+    first = [r[0][0] for r in seen if r[1][0] == 0]
+    assert np.mean(first) < 2.0
+    assert coupled_replicates([[0], [1]], stat, 10) is None
+
+
+def test_a_group_with_fewer_seeds_gets_its_own_interval_not_a_random_sized_one():
+    """seeds: auto leaves groups with 3 and 10 seeds under one k~: the report resamples each
+    group's own seeds (the sizes are pinned by the test above), and the 3-seed group's plateau
+    interval is close to the one the planner judged, a bootstrap of its 3 seeds alone."""
+    from fibril_hpc.campaign.laws.precision import group_precision
+    from fibril_hpc.campaign.laws.study import study_k
+
+    t = Truth("sharp", 20.0, 1.5, c_sd=0.1, P_sd=0.1)
+    pts = {0.2: group(t, 10, PRE, rng=5), 0.4: group(t, 3, PRE, rng=6)}
+    st = study_k(1.0, pts, n_boot=400, floor=FLOOR)
+    few = st.groups[1]
+    assert few.n_seeds == 3 and "own seeds" in st.ci_method
+    lo, hi = few.plateau_ci
+    own = group_precision(*pts[0.4], floor=FLOOR, width=0.2, n_boot=400)
+    w, w_own = hi - lo, own.plateau_ci[1] - own.plateau_ci[0]
+    assert 0.7 < w / w_own < 1.4, (few.plateau_ci, own.plateau_ci)

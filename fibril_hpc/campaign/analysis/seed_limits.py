@@ -16,32 +16,21 @@ from dataclasses import dataclass
 
 from ..laws.precision import group_precision
 
-#: what a ``seeds: auto`` mapping leaves out (the grid's resolved YAML normally holds all three)
-DEFAULTS = {"start": 3, "max": 10, "width": 0.2}
-
-
 def seeds_auto(meta) -> dict | None:
-    """{start, max, width} of the file's grid when it says ``seeds: {auto: {...}}``, else None
-    (a count or a list of seeds; a grid text that is missing or not YAML)."""
+    """{start, max, width} of the file's grid when it says ``seeds: auto`` (read by the planner's
+    own parser, :func:`..plan.search.parse_seeds`, defaults included), else None (a count or a
+    list of seeds; a grid text that is missing, not YAML or not valid)."""
     import yaml
+
+    from ...errors import ConfigError
+    from ..plan.search import parse_seeds
 
     try:
         grid = yaml.safe_load((meta or {}).get("campaign_yaml") or "") or {}
-    except yaml.YAMLError:
+        got = parse_seeds(grid.get("seeds")) if isinstance(grid, dict) else None
+    except (yaml.YAMLError, ConfigError):
         return None
-    seeds = grid.get("seeds") if isinstance(grid, dict) else None
-    auto = seeds.get("auto") if isinstance(seeds, dict) else None
-    if auto is None and isinstance(seeds, dict) and "auto" in seeds:
-        auto = {}
-    if not isinstance(auto, dict):
-        return None
-    out = dict(DEFAULTS)
-    try:
-        out.update({k: (float(v) if k == "width" else int(v)) for k, v in auto.items()
-                    if k in DEFAULTS and v is not None})
-    except (TypeError, ValueError):
-        return None
-    return out
+    return None if got is None else got.to_dict()
 
 
 @dataclass
@@ -109,4 +98,4 @@ def headline_line(auto: dict | None, limits: list) -> str:
                                   f"({x.n_seeds} seeds: {x.short})" for x in limits) + ".")
 
 
-__all__ = ["seeds_auto", "seed_limits", "SeedLimit", "shortfall", "headline_line", "DEFAULTS"]
+__all__ = ["seeds_auto", "seed_limits", "SeedLimit", "shortfall", "headline_line"]

@@ -74,6 +74,31 @@ def seed_replicates(labels, statistic, n_boot: int, rng_seed: int = 0):
     return d.reshape(-1, d.shape[-1])
 
 
+def coupled_replicates(label_sets, statistic, n_boot: int, rng_seed: int = 0):
+    """Bootstrap replicates over seeds for groups that hold *different* seed sets (``seeds:
+    auto`` gives a group only the seeds it needs): ``statistic(picks) -> 1-d array``, ``picks``
+    one array of resampled labels per set.
+
+    Each replicate draws N uniforms u (N: the largest set); a set of n labels takes label
+    ``floor(u_m n)`` for m < n: an ordinary bootstrap resample of its own n seeds, never a
+    resample of another size, and sets that share seeds are resampled alike (a small u picks
+    the first seeds of every set), so numbers read across groups keep their correlation.
+    Returns an array (n_values, n_boot), or None when no set holds two seeds or ``n_boot < 1``.
+    """
+    sets = [np.asarray(sorted(set(s))) for s in label_sets]
+    n_max = max((len(s) for s in sets), default=0)
+    if n_max < 2 or n_boot < 1:
+        return None
+    rng = np.random.default_rng(rng_seed)
+    out = []
+    with np.errstate(all="ignore"):
+        for _ in range(int(n_boot)):
+            u = rng.random(n_max)
+            picks = [s[(u[:len(s)] * len(s)).astype(int)] for s in sets]
+            out.append(np.atleast_1d(np.asarray(statistic(picks), dtype=float)))
+    return np.array(out).T
+
+
 def percentile_interval(replicates, level: float = LEVEL) -> tuple[float, float]:
     """(lo, hi) percentiles of the replicates; +inf ones make hi unbounded (inf); NaN ones are
     left out; fewer than two usable replicates: (NaN, NaN)."""

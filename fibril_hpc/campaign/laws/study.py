@@ -38,7 +38,8 @@ import numpy as np
 
 from .alphabeta import ABFit, fit_alpha_beta, t_interval
 from . import loss as _loss
-from .intervals import expanded, percentile_interval, replicate_sd, seed_replicates
+from .intervals import (coupled_replicates, expanded, percentile_interval, replicate_sd,
+                        seed_replicates)
 from .reading import FEW_PILLARS, HALF, LOST, UNDETERMINED, UNRESOLVED, Reading, read_group
 
 N_BOOT = 400
@@ -144,14 +145,20 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     labels = sorted(set().union(*(set(p[0].tolist()) for p in pts.values()))) if pts else []
     n = len(sigmas)
 
-    def stat(picked):
+    sets = [sorted(set(pts[s][0].tolist())) for s in sigmas]
+    uneven = any(x != sets[0] for x in sets)
+
+    def stat(picked):               # one resample of the labels for every group, or one each
         out = []
-        for s in sigmas:
-            r = read_group(*_resample(pts[s], picked), half=half, floor=floor)
+        for i, s in enumerate(sigmas):
+            r = read_group(*_resample(pts[s], picked[i] if uneven else picked), half=half,
+                           floor=floor)
             out += [r.plateau, r.c, r.c0]
         return np.array(out)
 
-    reps = seed_replicates(labels, stat, n_boot, rng_seed) if n else None
+    # groups with different seed sets (seeds: auto): each resamples its own seeds, coupled
+    reps = None if not n else (coupled_replicates(sets, stat, n_boot, rng_seed) if uneven
+                               else seed_replicates(labels, stat, n_boot, rng_seed))
     notes = []
     if reps is not None:
         for i, g in enumerate(groups):
@@ -161,7 +168,9 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
             g.c_ci = _nonneg(expanded(r.c, percentile_interval(reps[3 * i + 1]), n_s))
             g.c0_ci = _nonneg(expanded(r.c0, percentile_interval(reps[3 * i + 2]), n_s))
             g.c_sd = replicate_sd(reps[3 * i + 1])
-        method = f"bootstrap over {len(labels)} seeds ({reps.shape[1]} resamples)"
+        method = (f"bootstrap over {len(labels)} seeds ({reps.shape[1]} resamples)" if not uneven
+                  else f"bootstrap over each (k~, sigma~)'s own seeds, coupled across sigma~ "
+                  f"({min(map(len, sets))} to {len(labels)} seeds; {reps.shape[1]} resamples)")
     else:
         method = ("one seed: no seed interval" if len(labels) < 2
                   else "bootstrap off: no seed interval")
@@ -186,7 +195,8 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
               else (math.inf if f.ok and f.beta <= 0 else math.nan))
         ab_reps.append((f.alpha, f.beta, sc))
     ab_reps = np.array(ab_reps).T
-    n_l = len(labels)
+    # alpha and beta rest on every group in the fit: widened for the fewest seeds among them
+    n_l = min(g.n_seeds for g in groups if g.in_fit) if uneven else len(labels)
     st.alpha_ci = expanded(ab.alpha, percentile_interval(ab_reps[0]), n_l)
     st.beta_ci = expanded(ab.beta, percentile_interval(ab_reps[1]), n_l)
     st.sigma_c_ci = _nonneg(expanded(ab.sigma_c, percentile_interval(ab_reps[2]), n_l))
