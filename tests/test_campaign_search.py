@@ -36,8 +36,9 @@ class Truth:
     lost (1.5 pillars' pull-off at every preload) from ``loss`` on; every seed scatters F~_A by
     ``noise`` (relative, the same at every preload of a path)."""
 
-    def __init__(self, loss, alpha=0.3, beta=0.05, noise=0.02):
+    def __init__(self, loss, alpha=0.3, beta=0.05, noise=0.02, c_noise=0.0):
         self.loss, self.alpha, self.beta, self.noise = loss, alpha, beta, noise
+        self.c_noise = c_noise          # a seed's own scatter of c (moves its kink)
 
     def __call__(self, path, p):
         k, s, seed = path[:3]
@@ -45,6 +46,8 @@ class Truth:
         if s >= self.loss:
             return p, 1.5 * FLOOR * (1 + 0.05 * z)
         c = max(self.alpha / s - self.beta, 1e-3)
+        if self.c_noise:
+            c *= math.exp(self.c_noise * np.random.default_rng([seed, 7]).standard_normal())
         return p, min(c * p, 1.0) * (1 + self.noise * z)
 
 
@@ -256,3 +259,23 @@ def test_expected_sigmas_counts_the_start_and_its_bisections():
     assert search.expected_sigmas(a) == 4 + 4 + 2
     b = search.AutoSigma(start=(0.1, 1.0), bracket=1.1, spacing=2.0)   # a factor 10
     assert search.expected_sigmas(b) == 2 + math.ceil(math.log2(math.log(10) / math.log(1.1)))
+
+
+def test_with_f_p_auto_every_seed_of_a_group_runs_every_level():
+    """F_P: auto places each path's preloads on its own (its kink, its plateau rounds): before a
+    group is read its seeds are given the levels the others reached, so no level is thin."""
+    spec = _spec(sigma=[0.3, 2.0], seeds=4, F_P="auto")
+    assert spec.auto is not None
+    truth = Truth(5.0, noise=0.05, c_noise=1.0)
+    done = drive(spec, truth)
+    for s in (0.3, 2.0):
+        sets = {frozenset(v) for p, v in done.items() if p[1] == s}
+        assert len(sets) == 1, (s, sets)
+    # the paths' own rounds chose different preloads (else the test shows nothing): the levels
+    # a seed holds beyond its own rounds were filled in
+    from fibril_hpc.campaign.plan import auto
+
+    own = {p: frozenset(rp.kink_tried + rp.plateau_tried)
+           for p in done for rp in [auto.replay(spec.auto, done[p])]}
+    assert any(len({own[p] for p in done if p[1] == s}) > 1 for s in (0.3, 2.0))
+    assert any(own[p] != frozenset(v) for p, v in done.items())

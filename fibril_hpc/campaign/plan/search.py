@@ -25,7 +25,11 @@ rounded to three significant digits (a bracket narrower than that cannot be spli
 **A group** (k~, sigma~) runs seeds 0 .. ``start``-1; with ``seeds: auto``, when they are
 finished, :func:`.laws.precision.seeds_needed` says whether its plateau and c are known within
 ``width`` (and a lost group's state with certainty) or how many seeds would do; the group grows
-to that count (seeds 0 .. n-1, at most ``max``) and is read again.
+to that count (seeds 0 .. n-1, at most ``max``) and is read again. With ``F_P: auto`` every path
+places its own preloads; before a group is read, each seed also runs the preloads any other seed
+of the group reached, so that every level holds every seed (a level some seeds lack is *thin*:
+the report shows it but does not read it, and a plateau round run by a few seeds would leave the
+plateau unread).
 
 Every choice is a function of the line's records only, and every job is an ordinary job with the
 ordinary key (its single-preload scene's hash), so a resumed campaign (after SIGKILL too) replays
@@ -285,6 +289,21 @@ def _points(done: dict, paths) -> tuple:
     return np.asarray(seed), np.asarray(pre, float), np.asarray(x, float), np.asarray(y, float)
 
 
+def _thin_levels(spec, paths, done, failed, retry_failed=False) -> list:
+    """[(path, preloads)] that give every seed of a group the preloads any of its seeds reached
+    (``F_P: auto`` places each path's preloads, plateau rounds included, on its own: a level
+    that some seeds lack is *thin*, and the report shows it but cannot read it)."""
+    if spec.auto is None:
+        return []
+    levels = set().union(*(set(done.get(p, {})) for p in paths))
+    out = []
+    for p in paths:
+        have = set(done.get(p, {})) | (set() if retry_failed else set(failed.get(p, ())))
+        if levels - have:
+            out.append((p, sorted(levels - have)))
+    return out
+
+
 def replay_group(spec, line, sigma, done, failed, retry_failed=False, cache=None) -> Group:
     """One group of ``line`` replayed from the records ``done`` {path: {preload: (F_P, F_A)}}
     and ``failed`` {path: set of preloads}; ``cache``: a dict kept between calls (a finished
@@ -302,6 +321,9 @@ def replay_group(spec, line, sigma, done, failed, retry_failed=False, cache=None
                                          retry_failed))]
         if todo:
             return Group(sigma, seeds, todo)
+        fill = _thin_levels(spec, paths, done, failed, retry_failed)
+        if fill:
+            return Group(sigma, seeds, fill)
         pts = _points(done, paths)
         ck = (line, sigma, len(seeds), pts[0].size, float(np.sum(pts[3])) if pts[3].size else 0.0)
         prec = None if cache is None else cache.get(ck)
