@@ -197,7 +197,7 @@ def test_a_real_search_runs_its_rounds_with_ordinary_jobs(search_run, capsys):
     assert main(["status", path]) == 0
     assert main([grid, "--dry-run"]) == 0
     out = capsys.readouterr().out
-    assert "search grid" in out and "0 to run" in out
+    assert "search grid" in out and f"{len(jobs)} done, 0 failed, 0 to run" in out
 
 
 @pytest.mark.slow

@@ -149,7 +149,12 @@ def plan(spec, retry_failed: bool = False) -> Plan:
     done = failed = 0
     walls = {}                  # n_side -> per-job wall seconds of the finished jobs
     if recs:
+        # a search grid's records are all its own (its frontier holds none of them)
+        mine = (search.results(spec, recs.values()) if front is not None else None)
         for k, r in recs.items():
+            if mine is not None:
+                done += r.get("status") == "done" and _holds(mine[0], spec, r)
+                failed += r.get("status") == "failed" and _holds(mine[1], spec, r)
             if r.get("status") == "done":
                 done += k in todo
                 walls.setdefault(record_n_side(r), []).append(
@@ -184,6 +189,14 @@ def plan(spec, retry_failed: bool = False) -> Plan:
                len(spec.n_sides) > 1, scale, ref)
     return Plan(done=done, failed=failed, to_run=todo, n_tasks=n_tasks, sizes=sizes,
                 fft_pair_s=pair_s, fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how)
+
+
+def _holds(by_path: dict, spec, rec) -> bool:
+    """Whether a record's path is among a search grid's records by path (:func:`.search.results`)."""
+    try:
+        return spec.record_path(rec) in by_path
+    except (KeyError, TypeError, ValueError):
+        return False
 
 
 def _task_jobs(spec, keys=None, front=None):
