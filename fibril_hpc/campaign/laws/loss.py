@@ -7,19 +7,21 @@ lost group that has a non-lost group (rise resolved or rise not resolved) below 
 *loss bracket* (lo, hi]: hi that lost sigma~, lo the largest non-lost sigma~ below it. The
 measured sigma~_c is the sigma~ where the seed-mean plateau crosses the threshold
 ``FEW_PILLARS * floor``, interpolated linearly in log(plateau) against log(sigma~) between the
-two groups (exact when the plateau falls as a power of sigma~ there), clipped to [lo, hi]; with
+two groups (exact when the plateau falls as a power of sigma~ there), inside [lo, hi]; with
 lo = 0 (the smooth limit) linearly in sigma~. Its seed interval comes from the bootstrap
-replicates of the two plateaus (the study's joint resampling of seeds, lo and hi fixed): the
-crossing of every replicate, clipped to [lo, hi] (a replicate whose two plateaus are both above
-the threshold crosses at hi, both below at lo), its percentile interval widened for the number
-of seeds (:func:`.intervals.expanded`) and clipped to [lo, hi] again.
+replicates of the two plateaus (the study's resampling of seeds, lo and hi fixed): the crossing
+of every replicate, its percentile interval widened for the number of seeds
+(:func:`.intervals.expanded`). A replicate whose two plateaus lie on one side of the threshold
+crosses outside [lo, hi] (the log-log line extended; beyond hi where the plateau does not fall):
+the state of a bracketing group is then not certain with its seeds, the interval reaches beyond
+the bracket and the note says so; the comparison with alpha/beta takes the wider span.
 
 Without a bracket: no group lost ("no loss up to sigma~ = the largest run"), or the smallest
 sigma~ run already lost ("lost at every sigma~ run": sigma~_c below it).
 
 **Against alpha/beta** (:func:`compare`). The measurement is the whole bracket (lo, hi] (the
-interpolation's interval lies inside it; the bracket is what the data say without a shape of the
-plateau); without a bracket the one-sided bound. alpha/beta's sigma~_c, with its seed interval
+bracket is what the data say without a shape of the plateau), widened to the interpolation's
+interval where that reaches beyond it; without a bracket the one-sided bound. alpha/beta's sigma~_c, with its seed interval
 (the value alone when it has none), *agrees* when the two overlap; the law is *above* (it
 overshoots: c of the law is still > 0 where adhesion is already lost) when its interval lies
 wholly above hi, *below* when wholly below lo. A law whose value sits on the bracket's c = 0
@@ -60,23 +62,27 @@ def bracket_indices(sigmas, states):
     return None
 
 
-def crossing(s_lo: float, s_hi: float, p_lo: float, p_hi: float, thr: float) -> float:
+def crossing(s_lo: float, s_hi: float, p_lo: float, p_hi: float, thr: float,
+             clip: bool = True) -> float:
     """The sigma~ where the plateau, interpolated between (s_lo, p_lo) and (s_hi, p_hi), crosses
     ``thr``: log-log (linear in sigma~ when s_lo = 0), clipped to [s_lo, s_hi]; NaN where a
-    plateau is not a positive number."""
+    plateau is not a positive number. Unclipped (a bootstrap replicate in which both groups lie
+    on one side of the threshold), the line is extended beyond the bracket; a replicate whose
+    plateau does not fall from lo to hi crosses beyond hi (inf) when both are above, at 0 when
+    both are below."""
     if not (math.isfinite(p_lo) and math.isfinite(p_hi)) or p_lo <= 0 or p_hi <= 0 or thr <= 0:
         return math.nan
     above_lo, above_hi = p_lo > thr, p_hi > thr
-    if above_lo and above_hi:
-        return s_hi
-    if not above_lo and not above_hi:
-        return s_lo
+    if above_lo == above_hi and (clip or p_hi >= p_lo):
+        if clip:
+            return s_hi if above_lo else s_lo
+        return math.inf if above_lo else 0.0
     t = (math.log(p_lo) - math.log(thr)) / (math.log(p_lo) - math.log(p_hi))
     if s_lo > 0:
         s = math.exp(math.log(s_lo) + t * math.log(s_hi / s_lo))
     else:
-        s = s_lo + t * (s_hi - s_lo)
-    return min(max(s, s_lo), s_hi)
+        s = max(s_lo + t * (s_hi - s_lo), 0.0)
+    return min(max(s, s_lo), s_hi) if clip else s
 
 
 def measure(sigmas, states, plateaus, thr: float, reps=None, n_seeds=()) -> dict:
@@ -114,14 +120,20 @@ def measure(sigmas, states, plateaus, thr: float, reps=None, n_seeds=()) -> dict
     s = crossing(lo, hi, plateaus[i], plateaus[j], thr)
     out["sigma"] = s
     if reps is not None and math.isfinite(s):
-        rs = np.array([crossing(lo, hi, a, b, thr) for a, b in zip(reps[i], reps[j])])
+        rs = np.array([crossing(lo, hi, a, b, thr, clip=False)
+                       for a, b in zip(reps[i], reps[j])])
         n = min(n_seeds[i], n_seeds[j]) if len(n_seeds) > j else 0
-        ci = expanded(s, percentile_interval(rs), n)
-        out["ci"] = tuple(min(max(v, lo), hi) if not math.isnan(v) else v for v in ci)
+        out["ci"] = tuple(max(v, 0.0) for v in expanded(s, percentile_interval(rs), n))
     again = [float(x) for x, st in zip(sigmas[j + 1:], states[j + 1:])
              if st in (RESOLVED, UNRESOLVED)]
     out["note"] = (f"adhesion lost at sigma~ = {fmt_ci(s, out['ci'])} (the plateau crosses the "
                    f"loss threshold {thr:.3g}; bracket {lo:.3g}-{hi:.3g})")
+    c_lo, c_hi = out["ci"]
+    if c_hi > hi or c_lo < lo:
+        out["note"] += ("; the interval reaches beyond the bracket: with their seeds, the state of "
+                        + " and ".join(x for x, far in (("the last group holding adhesion", c_lo < lo),
+                                                      ("the first lost group", c_hi > hi)) if far)
+                        + " is not certain")
     if again:
         out["note"] += ("; adhesion is found again above it at sigma~ = "
                         + ", ".join(f"{x:g}" for x in again) + " (not monotone in sigma~)")
@@ -143,6 +155,8 @@ def compare(kind: str, bracket: tuple, sigma_loss: float, loss_ci: tuple, sigma_
     :func:`measure` (its ``kind``, ``bracket``, ``sigma`` and ``ci``; module text); ("", why)
     where there is nothing to compare."""
     lo, hi = bracket
+    if kind == BRACKET and all(math.isfinite(v) for v in loss_ci):   # an uncertain end state
+        lo, hi = min(lo, loss_ci[0]), max(hi, loss_ci[1])
     if kind == NOT_READ:
         return "", "the loss is not measured"
     if not math.isfinite(sigma_c):
