@@ -24,9 +24,10 @@ sigma~_c is undefined.
 **The measured loss** (:mod:`.loss`): per k~ the sigma~ where the seed-mean plateau crosses the
 loss threshold between the last group holding adhesion and the first lost one, its interval
 from the same replicates (the plateaus of those two groups), and whether alpha/beta's sigma~_c
-agrees with it (``loss_vs_law``), independently of the statuses above; where beta is consistent
-with 0 the law shows no sigma~_c and no agreement is claimed (an interval still wholly beyond
-the loss is named).
+agrees with it (``loss_vs_law``), independently of the statuses above, except that an
+undefined law (alpha consistent with 0) is not compared; where beta is consistent with 0 the
+law shows no sigma~_c and no agreement is claimed (an interval still wholly beyond the loss is
+named).
 """
 
 from __future__ import annotations
@@ -280,7 +281,11 @@ def judge(st: KStudy) -> KStudy:
     st.loss_vs_law, st.loss_vs_law_why = _loss.compare(
         st.loss_kind, st.loss_bracket, st.sigma_loss, st.sigma_loss_ci,
         ab.sigma_c if ab.ok else math.nan, st.sigma_c_ci)
-    if st.loss_vs_law == _loss.AGREE and beta_is_zero(st):
+    if st.status == "undefined" and ab.ok:
+        # alpha consistent with 0: the law does not describe c, and its zero says nothing
+        st.loss_vs_law = ""
+        st.loss_vs_law_why = f"the law is undefined for this k~ ({st.status_why}): no comparison"
+    elif st.loss_vs_law == _loss.AGREE and beta_is_zero(st):
         # a zero the law does not show agrees with anything: say so instead of "agree" (a law
         # whose sigma~_c interval still lies wholly beyond the loss is named all the same)
         st.loss_vs_law = ""
