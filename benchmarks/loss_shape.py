@@ -41,6 +41,17 @@ def _slope(a, b) -> float:
     return math.log(p1 / p0) / math.log(s1 / s0)
 
 
+def _first_crossing(gs, thr: float) -> float:
+    """The sigma~ where the seed-mean plateau of the groups ``gs`` (ascending sigma~) first falls
+    to ``thr``, interpolated log-log between the two groups around it (NaN: it never does)."""
+    pts = [(g.sigma, g.precision.plateau) for g in gs if g.precision.plateau > 0]
+    for (s0, p0), (s1, p1) in zip(pts, pts[1:]):
+        if p0 > thr >= p1:
+            t = math.log(p0 / thr) / math.log(p0 / p1)
+            return math.exp(math.log(s0) + t * math.log(s1 / s0))
+    return math.nan
+
+
 def rows_of(path: str) -> tuple[list, list]:
     """(one row per group, one summary per line) of the search campaign at ``path``."""
     c = load_campaign(path, curves=False)
@@ -67,7 +78,9 @@ def rows_of(path: str) -> tuple[list, list]:
                          "met": p.met, "short": " ".join(p.short)})
             prev = (g.sigma, p.plateau)
         summary = {"file": os.path.basename(path), "k_tilde": line[0], "n_side": n_side,
-                   "bracket_lo": lo, "bracket_hi": hi}
+                   "bracket_lo": lo, "bracket_hi": hi,
+                   # where the seed-mean plateau first falls to 2, 3, 5 pillars (log-log)
+                   **{f"sigma_at_{m}_pillars": _first_crossing(gs, m * floor) for m in (2, 3, 5)}}
         if math.isfinite(lo) and math.isfinite(hi):
             by = {g.sigma: g for g in gs}
             alive = [g for g in gs if g.sigma <= lo and g.state != LOST]
@@ -107,6 +120,8 @@ def main(argv=None) -> int:
                   + f" {r['plateau_pillars']:>7.3g} "
                   + f"{r['c']:.3g} [{r['c_lo']:.3g}, {r['c_hi']:.3g}]".ljust(26)
                   + f" {r['slope_from_previous']:>9.3g}")
+        print("  the plateau first falls to 2, 3, 5 pillars at sigma~ = "
+              + ", ".join(f"{s[f'sigma_at_{m}_pillars']:.3g}" for m in (2, 3, 5)))
         if "slope_across" in s:
             print(f"  plateau {s['plateau_lo_pillars']:.3g} -> {s['plateau_hi_pillars']:.3g} "
                   f"pillars across the bracket; d ln P / d ln sigma~ {s['slope_before']:.3g} "

@@ -21,14 +21,15 @@ sigma~ run already lost ("lost at every sigma~ run": sigma~_c below it).
 
 **Against alpha/beta** (:func:`compare`). The measurement is the whole bracket (lo, hi] (the
 bracket is what the data say without a shape of the plateau), widened to the interpolation's
-interval where that reaches beyond it; without a bracket the one-sided bound. alpha/beta's sigma~_c, with its seed interval
-(the value alone when it has none), *agrees* when the two overlap; the law is *above* (it
-overshoots: c of the law is still > 0 where adhesion is already lost) when its interval lies
-wholly above hi, *below* when wholly below lo. A law whose value sits on the bracket's c = 0
-point within the allowance ``TOL`` that :func:`.study.judge` gives a *pinned* sigma~_c
-(lo <= alpha/beta <= TOL hi) agrees (a pinned law is never called above); an interval reaching
-infinity that does not lie wholly above the bracket says nothing (beta consistent with 0: "").
-Where alpha/beta gives no finite sigma~_c there is nothing to compare ("").
+interval where that reaches beyond it; without a bracket the one-sided bound. alpha/beta's
+sigma~_c, with its seed interval (the value alone when it has none), *agrees* when the two
+overlap; the law is *above* (it overshoots: c of the law is still > 0 where adhesion is already
+lost) when its interval lies wholly above hi, *below* when wholly below lo. A law whose value
+sits on the bracket's c = 0 point within the allowance ``TOL`` that :func:`.study.judge` gives a
+*pinned* sigma~_c (lo <= alpha/beta <= TOL hi) agrees (a pinned law is never called above); an
+interval reaching infinity that does not lie wholly above the bracket says nothing (beta
+consistent with 0: ""). Where alpha/beta gives no finite sigma~_c there is nothing to compare
+("").
 """
 
 from __future__ import annotations
@@ -154,7 +155,7 @@ def compare(kind: str, bracket: tuple, sigma_loss: float, loss_ci: tuple, sigma_
     """(verdict, one-line reason) of alpha/beta's sigma~_c against the measured loss of
     :func:`measure` (its ``kind``, ``bracket``, ``sigma`` and ``ci``; module text); ("", why)
     where there is nothing to compare."""
-    lo, hi = bracket
+    lo, hi = b_lo, b_hi = bracket
     if kind == BRACKET and all(math.isfinite(v) for v in loss_ci):   # an uncertain end state
         lo, hi = min(lo, loss_ci[0]), max(hi, loss_ci[1])
     if kind == NOT_READ:
@@ -166,8 +167,8 @@ def compare(kind: str, bracket: tuple, sigma_loss: float, loss_ci: tuple, sigma_
         a = b = sigma_c
     law = f"alpha/beta extrapolates sigma~_c = {fmt_ci(sigma_c, sigma_c_ci)}"
     if kind == BRACKET:
-        meas = (f"adhesion is lost at {fmt_ci(sigma_loss, loss_ci)} (bracket {lo:.3g}-{hi:.3g})"
-                if math.isfinite(sigma_loss) else f"adhesion is lost in ({lo:.3g}, {hi:.3g}]")
+        meas = (f"adhesion is lost at {fmt_ci(sigma_loss, loss_ci)} (bracket {b_lo:.3g}-{b_hi:.3g})"
+                if math.isfinite(sigma_loss) else f"adhesion is lost in ({b_lo:.3g}, {b_hi:.3g}]")
     elif kind == NO_LOSS:
         meas = f"adhesion is not lost up to sigma~ = {lo:g} (sigma~_c > {lo:g})"
     else:
