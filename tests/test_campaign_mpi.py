@@ -130,3 +130,22 @@ def test_mpi_auto_preloads_equal_serial(tmp_path):
     a, b = results_by_key(str(ser / "auto.h5")), results_by_key(str(par / "auto.h5"))
     assert set(a) == set(b) and len(a) > 10
     assert same_numbers(a, b) == []
+
+
+@pytest.mark.slow
+def test_mpi_search_grid_equals_serial(tmp_path):
+    """sigma_tilde: auto and seeds: auto under MPI: the master replays every line's rounds as
+    paths come back in any order; the same sigma~, seeds and records as a serial run."""
+    from test_campaign_search import SMALL
+
+    ser = tmp_path / "ser"
+    par = tmp_path / "par"
+    ser.mkdir()
+    par.mkdir()
+    grid = dict(SMALL, k_tilde=[1, 0.01])
+    assert main([write_grid(ser, grid), "--no-progress", "--serial"]) == 0
+    r = _mpirun(3, [write_grid(par, grid), "--no-progress"])
+    assert r.returncode == 0, r.stderr
+    a, b = results_by_key(str(ser / "search.h5")), results_by_key(str(par / "search.h5"))
+    assert set(a) == set(b) and len({j["sigma_tilde"] for j in a.values()}) > 4
+    assert same_numbers(a, b) == []
