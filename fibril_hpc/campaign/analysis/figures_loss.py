@@ -104,6 +104,8 @@ def _title(k, st) -> str:
     a = st.ab
     if not (a.ok and math.isfinite(a.sigma_c)):
         return head + "\nα/β: no finite zero"
+    if st.status != "fitted":
+        return head + f"\nα/β = {a.sigma_c:.3g}: {st.status}, not compared"
     verdict = {_loss.AGREE: "agrees", _loss.ABOVE: "OVERSHOOTS", _loss.BELOW: "UNDERSHOOTS"}
     return head + f"\nα/β = {a.sigma_c:.3g}: {verdict.get(st.loss_vs_law, '—')}"
 
@@ -132,7 +134,7 @@ def loss(data, out_dir, name="sigma_c_loss.png"):
     n = max(len(ks), 1)
     ncol = min(COLUMNS, n)
     nrow = -(-n // ncol)
-    fig, axes = subplots(2 * nrow, ncol, figsize=(4.3 * ncol, 6.2 * nrow + 1.0), squeeze=False,
+    fig, axes = subplots(2 * nrow, ncol, figsize=(max(4.3 * ncol, 9.5), 6.2 * nrow + 1.0), squeeze=False,
                          gridspec_kw={"height_ratios": [3, 2] * nrow})
     fig.set_layout_engine("constrained")
     if not ks:

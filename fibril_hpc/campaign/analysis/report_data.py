@@ -262,8 +262,11 @@ def headline(d: ReportData) -> list:
         lines.append("alpha and beta undefined for k~ = " + ks(f"{k:g}" for k in by["undefined"])
                      + ": " + "; ".join(f"k~ = {k:g}: {d.studies[k].status_why}"
                                         for k in by["undefined"])
-                     + (f". Left out of the fit: {why}" if why else "") + ". " + GRID_ADVICE
-                     + ".")
+                     + (f". Left out of the fit: {why}" if why else "") + "."
+                     # the grid advice where too few sigma~ could be fitted, not where the law
+                     # was fitted and failed (alpha consistent with 0 on many rising groups)
+                     + ("" if all(d.studies[k].ab.ok for k in by["undefined"])
+                        else " " + GRID_ADVICE + "."))
     sc = {s: [k for k, st in d.studies.items() if st.sigma_c_status == s]
           for s in ("measured", "pinned")}
     if sc["measured"] or sc["pinned"]:

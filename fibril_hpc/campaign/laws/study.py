@@ -24,8 +24,9 @@ sigma~_c is undefined.
 **The measured loss** (:mod:`.loss`): per k~ the sigma~ where the seed-mean plateau crosses the
 loss threshold between the last group holding adhesion and the first lost one, its interval
 from the same replicates (the plateaus of those two groups), and whether alpha/beta's sigma~_c
-agrees with it (``loss_vs_law``), independently of the statuses above, except that an
-undefined law (alpha consistent with 0) is not compared; where beta is consistent with 0 the
+agrees with it (``loss_vs_law``) where the law is *fitted* (a poor or undefined line does not
+describe c: its zero sits where the c = 0 points' weights put it, often exactly on a lost
+sigma~); where beta is consistent with 0 the
 law shows no sigma~_c and no agreement is claimed (an interval still wholly beyond the loss is
 named).
 """
@@ -281,10 +282,13 @@ def judge(st: KStudy) -> KStudy:
     st.loss_vs_law, st.loss_vs_law_why = _loss.compare(
         st.loss_kind, st.loss_bracket, st.sigma_loss, st.sigma_loss_ci,
         ab.sigma_c if ab.ok else math.nan, st.sigma_c_ci)
-    if st.status == "undefined" and ab.ok:
-        # alpha consistent with 0: the law does not describe c, and its zero says nothing
+    if st.status != "fitted" and ab.ok:
+        # a poor fit or alpha consistent with 0: the line does not describe c, and where its
+        # zero falls is set by the c = 0 points' weights (it often sits exactly on a lost
+        # sigma~, with a seed interval of zero width), not by the data: its failure is the finding
         st.loss_vs_law = ""
-        st.loss_vs_law_why = f"the law is undefined for this k~ ({st.status_why}): no comparison"
+        st.loss_vs_law_why = (f"the law is {st.status} for this k~: its zero is not compared "
+                              "with the measured loss")
     elif st.loss_vs_law == _loss.AGREE and beta_is_zero(st):
         # a zero the law does not show agrees with anything: say so instead of "agree" (a law
         # whose sigma~_c interval still lies wholly beyond the loss is named all the same)
