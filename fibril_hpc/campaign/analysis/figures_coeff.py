@@ -17,7 +17,10 @@ from .figures import FA, KT, SIG, colour, err, legend, save, say, subplots
 def _ab_label(k, st) -> str:
     a = st.ab
     if st.status == "undefined":
-        return f"{KT}={k:g}: α, β undefined ({st.status_why or 'no fit'})"[:72]
+        why = (st.status_why or "no fit").split(" [")[0].split(":")[0]
+        if "consistent with 0" in (st.status_why or ""):
+            why = "α consistent with 0"
+        return f"{KT}={k:g}: α, β undefined ({why})"[:72]
     flag = " — POOR FIT" if st.status == "poor fit" else ""
     sc = (f", {SIG}$_c$={a.sigma_c:.3g}" + (" (pinned)" if st.sigma_c_status == "pinned" else "")
           if st.sigma_c_status in ("measured", "pinned") else f", {SIG}$_c$ undefined")
@@ -30,7 +33,7 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
     against sigma~ log-log. Seed intervals; lines: solid fitted within the seed scatter, dotted
     poor fit, none where alpha and beta are undefined. Filled circles: in the fit; open: left
     out; triangles: a rise not resolved (c is at least there); crosses: adhesion lost (c = 0)."""
-    fig, (a1, a2) = subplots(1, 2, figsize=(13, 5.2))
+    fig, (a1, a2) = subplots(1, 2, figsize=(12, 6.0))
     drawn = False
     zeros = []
     bounds = []
@@ -92,15 +95,20 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
         for s, col in zeros:
             a2.annotate("", (s, 0), xycoords=("data", "axes fraction"), xytext=(0, 14),
                         textcoords="offset points", arrowprops={"arrowstyle": "->", "color": col})
-        legend(a1, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+        handles, labels = a1.get_legend_handles_labels()
+        if labels:                  # below both panels: the labels are long, the panels wide
+            fig.legend(handles, labels, loc="lower center", fontsize=8,
+                       ncol=2 if len(labels) > 3 else 1, frameon=False)
     a1.set_xlabel(f"roughness {SIG}")
     a2.set_xlabel(f"roughness {SIG}")
     a1.set_ylabel(f"c · {SIG} (the law: α − β{SIG}, zero at {SIG}$_c$)")
     a2.set_ylabel("adhesion coefficient c (eq. 15, slope through the origin)")
-    a1.set_title("c·σ̃: solid fitted, dotted poor fit; open: not in the fit; △ rise not resolved "
-                 "(c ≥); × adhesion lost", fontsize=8)
+    a1.set_title("c·σ̃: solid fitted, dotted poor fit; open: not in the fit;\n"
+                 "△ rise not resolved (c ≥); × adhesion lost", fontsize=9)
     a2.set_title("c, log–log (arrows: adhesion lost, c = 0)", fontsize=10)
-    fig.tight_layout()
+    n_lab = len(a1.get_legend_handles_labels()[1])
+    rows = (n_lab + 1) // 2 if n_lab > 3 else n_lab
+    fig.tight_layout(rect=(0, min(0.05 + 0.045 * rows, 0.45), 1, 1))
     return save(fig, out_dir, name)
 
 
