@@ -70,7 +70,7 @@ def test_campaign_bar_total_grows_with_auto_rounds():
     assert p.bar.bar.total == 18 and p.bar.bar.n == 6
     p.finish()
     out = term.getvalue()
-    assert "6/18" in out and "auto rounds may add jobs" in out
+    assert "6/18" in out and "auto round" in out
     assert "1 failed" in out
 
 
