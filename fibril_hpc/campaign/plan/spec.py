@@ -7,9 +7,9 @@ A grid YAML is a mapping::
       n_side: 18
       solver: {fft_threads: 1, max_wall_s: 3600}
     k_tilde: [1, 0.1, 0.01]     # number or list
-    sigma_tilde: [0.1, 0.5]     # number or list
+    sigma_tilde: [0.1, 0.5]     # number or list; or auto (the loss bracketed, .search)
     F_P: [0.5, 1, 2, 4]         # or d_tilde: [...]; number or list; or auto (see .auto)
-    seeds: 10                   # a count (seeds 0..9) or a list of seeds
+    seeds: 10                   # a count (seeds 0..9), a list of seeds, or auto (.search)
     # with scene.physical (SI units, docs/units.md), k: [N/m, ...] and sigma: [m, ...] may
     # stand for k_tilde and sigma_tilde; the jobs are keyed by the normalised values
     group_preloads: true        # jobs sharing (k_tilde, sigma_tilde, seed) share one loading path
@@ -146,7 +146,8 @@ class CampaignSpec:
     @property
     def campaign_hash(self) -> str:
         """SHA-256 of the sorted job keys; with ``F_P: auto`` (jobs chosen while it runs) of the
-        sorted path keys ``auto:<settings hash>:<key of the path's scene at F_P = 1>``."""
+        sorted path keys ``auto:<settings hash>:<key of the path's scene at F_P = 1>``; for a
+        search grid of the sorted line keys ``search:<settings hash>:<line key>``."""
         if self.grid_hash:
             return self.grid_hash
         if self.search:
