@@ -154,3 +154,19 @@ def test_the_page_names_a_disagreement_in_plain_words():
     assert lines[-1] == "alpha/beta's sigma~_c agrees with the measured loss for k~ = 0.1."
     assert loss_page.verdict_cell(studies[1.0]) == f"**{loss.ABOVE}**"
     assert loss_page.measured_cell(studies[0.1]).endswith(f"in ({DENSE[4]:.4g}, {DENSE[5]:.4g}]")
+
+
+def test_no_loss_up_to_the_search_limit_is_said_to_be_the_limit():
+    import yaml
+
+    pts, _ = law_campaign(2.0, 0.5, (0.07, 0.164, 0.384, 0.898, 2.1), seeds=3, rng=1)
+    st = study_k(1.0, pts, n_boot=40, floor=FLOOR)
+    meta = {"campaign_yaml": yaml.safe_dump({"sigma_tilde": {"auto": {"start": [0.07, 0.5],
+                                                                     "max": 2.1}}})}
+    assert loss_page.search_max(meta) == 2.1
+    line = loss_page.headline_lines({1.0: st}, loss_page.search_max(meta))[0]
+    assert "sigma~_c > 2.1, the search's limit sigma_tilde.auto.max" in line
+    fixed = {"campaign_yaml": yaml.safe_dump({"sigma_tilde": [0.07, 2.1]})}
+    assert math.isnan(loss_page.search_max(fixed))
+    assert "search's limit" not in loss_page.headline_lines({1.0: st},
+                                                            loss_page.search_max(fixed))[0]

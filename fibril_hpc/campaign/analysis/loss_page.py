@@ -4,6 +4,8 @@ it, in plain words. Inputs: the per-k~ studies (:class:`..laws.study.KStudy`).""
 
 from __future__ import annotations
 
+import math
+
 from ..laws import loss as _loss
 from ..laws.loss import fmt_ci
 from ..laws.reading import FEW_PILLARS
@@ -28,9 +30,27 @@ def verdict_cell(st) -> str:
     return st.loss_vs_law if st.loss_vs_law == _loss.AGREE else f"**{st.loss_vs_law}**"
 
 
-def headline_lines(studies: dict) -> list:
+def search_max(meta) -> float:
+    """The grid's ``sigma_tilde: auto`` upper limit (``max``), read by the planner's own parser;
+    NaN for a fixed sigma~ list or a grid text that is missing or not valid."""
+    import yaml
+
+    from ...errors import ConfigError
+    from ..plan.search import is_auto, parse_sigma
+
+    try:
+        grid = yaml.safe_load((meta or {}).get("campaign_yaml") or "") or {}
+        value = grid.get("sigma_tilde") if isinstance(grid, dict) else None
+        return parse_sigma(value).max if is_auto(value) else math.nan
+    except (yaml.YAMLError, ConfigError):
+        return math.nan
+
+
+def headline_lines(studies: dict, sigma_max: float = math.nan) -> list:
     """The headline's lines: where adhesion is lost per k~, then every k~ whose alpha/beta
-    sigma~_c disagrees with it (one line each), then those that agree."""
+    sigma~_c disagrees with it (one line each), then those that agree. ``sigma_max``: a search
+    grid's upper limit of sigma~ (:func:`search_max`): a k~ without a loss up to it is said to
+    have reached the search's limit."""
     if not studies:
         return []
     by: dict = {}
@@ -43,7 +63,10 @@ def headline_lines(studies: dict) -> list:
                                for k, st in by[_loss.BRACKET]))
     if by.get(_loss.NO_LOSS):
         parts.append("no loss up to the largest sigma~ run for k~ = " + ", ".join(
-            f"{k:g} (sigma~_c > {st.loss_bracket[0]:g})" for k, st in by[_loss.NO_LOSS]))
+            f"{k:g} (sigma~_c > {st.loss_bracket[0]:g}"
+            + (", the search's limit sigma_tilde.auto.max: raise it to look further"
+               if st.loss_bracket[0] >= sigma_max else "") + ")"
+            for k, st in by[_loss.NO_LOSS]))
     if by.get(_loss.ALL_LOST):
         parts.append("lost at every sigma~ run for k~ = " + ", ".join(
             f"{k:g} (sigma~_c < {st.loss_bracket[1]:g})" for k, st in by[_loss.ALL_LOST]))

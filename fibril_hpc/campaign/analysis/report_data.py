@@ -26,6 +26,7 @@ from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED, levels, pillar_floor
 from ..laws.size import DIFFERS, WITHIN, size_rows
 from ..laws.study import N_BOOT, beta_is_zero, study
 from .loss_page import headline_lines as loss_lines
+from .loss_page import search_max
 from .seed_limits import headline_line as seeds_line
 from .seed_limits import seed_limits, seeds_auto
 from .variants import Variant, select
@@ -276,7 +277,7 @@ def headline(d: ReportData) -> list:
                         ("pinned to the data bracket for k~ = " + ks(f"{k:g}" for k in sc["pinned"])
                          + " (the bracket is the measurement)") if sc["pinned"] else "") if p)
                      + "; elsewhere undefined (see the alpha/beta table).")
-    lines += loss_lines(d.studies)
+    lines += loss_lines(d.studies, search_max(d.meta))
     states: dict = {}
     for st in d.studies.values():
         for g in st.groups:
