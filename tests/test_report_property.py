@@ -53,7 +53,11 @@ def _records(jobs, kinds, rng):
 
 def _write(tmp, grid, kinds, rng_seed=0, auto_rounds=False):
     spec = spec_from_dict(grid, base_dir=str(tmp))
-    if spec.auto is not None:
+    if spec.search:                  # a search grid: its round 0 (sigma~ start, start seeds)
+        from fibril_hpc.campaign.plan import search
+
+        jobs = [j for path, pre in search.frontier(spec, []) for j in spec.auto_task(path, pre).jobs]
+    elif spec.auto is not None:
         jobs = [j for p in spec.paths() for j in spec.auto_task(p, spec.auto.start).jobs]
     else:
         jobs = list(spec.jobs)
