@@ -86,8 +86,9 @@ def test_report_reads_the_known_plateau_c_and_alpha_beta(tmp_path):
         <= float(ab["sigma_tilde_c_measured_hi"]) <= 3.0
     assert ab["loss_vs_law"] == "agree"
     page = (out / "README.md").read_text()
-    assert page.splitlines()[2].startswith("**alpha and beta fitted within the seed scatter "
-                                           "for k~ = 1")
+    assert page.splitlines()[2].startswith("**Where this brush loses adhesion, σ̃_c per k̃")
+    assert page.splitlines()[4].startswith(
+        f"k̃ = 1: {float(ab['sigma_tilde_c_measured']):.3g} [")
     for f in FIGURES:
         assert f"]({f})" in page
     html = (out / "report.html").read_text()

@@ -1,13 +1,12 @@
 """The measured sigma~_c (where adhesion is lost along sigma~, model-free) against known truth,
-its comparison with alpha/beta's extrapolation, and the page's words on both
-(tests/synthetic_campaigns.py: loss_campaign)."""
+and its comparison with alpha/beta's extrapolation (tests/synthetic_campaigns.py: loss_campaign);
+the page's words on both: tests/test_report_page.py."""
 
 import math
 
 import numpy as np
 import pytest
 
-from fibril_hpc.campaign.analysis import loss_page
 from fibril_hpc.campaign.laws import loss
 from fibril_hpc.campaign.laws.reading import LOST, RESOLVED, UNRESOLVED
 from fibril_hpc.campaign.laws.study import study_k
@@ -139,34 +138,3 @@ def test_the_comparison_rules():
     # no finite alpha/beta: nothing to compare
     v, why = loss.compare(loss.BRACKET, br, 1.0, (0.95, 1.05), math.nan, (math.nan,) * 2)
     assert v == "" and "no finite" in why
-
-
-def test_the_page_names_a_disagreement_in_plain_words():
-    good, _ = loss_campaign(1.0, (0.1, 0.3) + DENSE, 5, rng=0)
-    bad, _ = loss_campaign(1.0, SHARP, 5, alpha=4.0, beta=1.0, fade=None, rng=0, creep=3.0)
-    studies = {1.0: study_k(1.0, bad, n_boot=60, floor=FLOOR),
-               0.1: study_k(0.1, good, n_boot=60, floor=FLOOR)}
-    lines = loss_page.headline_lines(studies)
-    assert lines[0].startswith("Measured sigma~_c") and "k~ = 1 at " in lines[0]
-    bad_line = [x for x in lines if x.startswith("**k~ = 1:")]
-    assert len(bad_line) == 1 and "alpha/beta extrapolates sigma~_c" in bad_line[0]
-    assert "but adhesion is lost at" in bad_line[0] and "overshoots" in bad_line[0]
-    assert lines[-1] == "alpha/beta's sigma~_c agrees with the measured loss for k~ = 0.1."
-    assert loss_page.verdict_cell(studies[1.0]) == f"**{loss.ABOVE}**"
-    assert loss_page.measured_cell(studies[0.1]).endswith(f"in ({DENSE[4]:.4g}, {DENSE[5]:.4g}]")
-
-
-def test_no_loss_up_to_the_search_limit_is_said_to_be_the_limit():
-    import yaml
-
-    pts, _ = law_campaign(2.0, 0.5, (0.07, 0.164, 0.384, 0.898, 2.1), seeds=3, rng=1)
-    st = study_k(1.0, pts, n_boot=40, floor=FLOOR)
-    meta = {"campaign_yaml": yaml.safe_dump({"sigma_tilde": {"auto": {"start": [0.07, 0.5],
-                                                                     "max": 2.1}}})}
-    assert loss_page.search_max(meta) == 2.1
-    line = loss_page.headline_lines({1.0: st}, loss_page.search_max(meta))[0]
-    assert "sigma~_c > 2.1, the search's limit sigma_tilde.auto.max" in line
-    fixed = {"campaign_yaml": yaml.safe_dump({"sigma_tilde": [0.07, 2.1]})}
-    assert math.isnan(loss_page.search_max(fixed))
-    assert "search's limit" not in loss_page.headline_lines({1.0: st},
-                                                            loss_page.search_max(fixed))[0]

@@ -10,6 +10,7 @@ import yaml
 
 from fibril_hpc.campaign.analysis import seed_limits as sl
 from fibril_hpc.campaign.analysis.data import CampaignData
+from fibril_hpc.campaign.analysis.headline import seeds_line
 from fibril_hpc.campaign.analysis.report_data import build
 
 from synthetic_campaigns import FLOOR, Truth, group
@@ -49,14 +50,20 @@ def test_a_group_at_the_maximum_short_of_the_target_is_named_and_no_other():
     lim = sl.seed_limits(_points(), FLOOR, AUTO)
     assert [(x.k_tilde, x.sigma_tilde) for x in lim] == [(1.0, 0.2)]
     assert not lim[0].prec.met and "plateau" in lim[0].prec.short
-    assert "hit the maximum of 5 seeds" in lim[0].what() and "(target 20 %)" in lim[0].what()
-    line = sl.headline_line(AUTO, lim)
-    assert line.startswith("seeds: auto (from 3, at most 5 per (k~, sigma~)")
-    assert "1 (k~, sigma~) hit the maximum of seeds" in line and "sigma~ = 0.2 (5 seeds:" in line
-    assert "sigma~ = 0.4" not in line and "sigma~ = 0.6" not in line
-    assert sl.headline_line(AUTO, []).endswith("no (k~, sigma~) hit the maximum short of the "
-                                               "target.")
-    assert sl.seed_limits(_points(), FLOOR, None) == [] and sl.headline_line(None, []) == ""
+    what = lim[0].what()
+    assert what.startswith("stopped at the seeds: auto maximum (5 seeds) short of the target: ")
+    assert "(target 20 %)" in what and "of seeds" not in what and " run)" not in what
+    # a group holding more seeds than the maximum (a grid whose max was lowered) says both
+    more = sl.SeedLimit(1.0, 0.2, 7, 5, lim[0].prec, lim[0].short)
+    assert "(7 seeds; the maximum is 5)" in more.what()
+    line = seeds_line(AUTO, lim)
+    assert line.startswith("seeds: auto (from 3, at most 5 per (k̃, σ̃)")
+    assert "1 (k̃, σ̃) stopped at the maximum short of the target" in line
+    assert "k̃ = 1, σ̃ = 0.2" in line and "σ̃ = 0.4" not in line and "σ̃ = 0.6" not in line
+    # what is short is said once, in the plateau table, not again here
+    assert lim[0].short not in line
+    assert seeds_line(AUTO, []).endswith("no (k̃, σ̃) stopped at the maximum short of the target.")
+    assert sl.seed_limits(_points(), FLOOR, None) == [] and seeds_line(None, []) == ""
 
 
 def _jobs(points):
@@ -73,13 +80,14 @@ def test_the_page_says_which_group_hit_the_maximum():
     meta = _meta({"auto": AUTO}, sigma={"auto": {"start": [0.2, 0.6]}})
     d = build(CampaignData(meta, _jobs(_points())), "x.h5", n_boot=40)
     assert d.seeds_auto == AUTO and len(d.seed_limits) == 1
-    line = [x for x in d.headline if x.startswith("seeds: auto")]
-    assert len(line) == 1 and "sigma~ = 0.2 (5 seeds:" in line[0]
+    line = [x for x in d.notes if x.startswith("seeds: auto")]
+    assert len(line) == 1 and "k̃ = 1, σ̃ = 0.2" in line[0]
+    assert "1 (k̃, σ̃) stopped at the maximum of seeds: auto" in d.headline[-1]
     from fibril_hpc.campaign.analysis import tables
 
     rows = {r[1]: r for r in tables.plateau(d).page_rows[1:]}
-    assert "**hit the maximum of 5 seeds" in rows["0.2"][-1]
-    assert "hit the maximum" not in rows["0.4"][-1] and "hit the maximum" not in rows["0.6"][-1]
+    assert "**stopped at the seeds: auto maximum (5 seeds)" in rows["0.2"][-1]
+    assert "stopped at" not in rows["0.4"][-1] and "stopped at" not in rows["0.6"][-1]
 
 
 def test_report_status_and_export_read_a_grid_whose_seeds_and_sigma_are_auto(tmp_path):
@@ -107,7 +115,7 @@ def test_report_status_and_export_read_a_grid_whose_seeds_and_sigma_are_auto(tmp
     out = tmp_path / "rep"
     assert main(["report", spec.output, "--out", str(out), "--n-boot", "30"]) == 0
     page = (out / "README.md").read_text()
-    assert "seeds: auto (from 3, at most 5" in page and "sigma~ = 0.2 (5 seeds:" in page
+    assert "seeds: auto (from 3, at most 5" in page and "k̃ = 1, σ̃ = 0.2" in page
     assert main(["status", spec.output]) == 0
     assert main(["export", spec.output, "--csv", str(tmp_path / "o.csv")]) == 0
     rows = list(csv.DictReader((tmp_path / "o.csv").read_text().splitlines()))

@@ -87,7 +87,8 @@ def test_the_report_reads_the_first_variant_alone_and_says_so(tmp_path):
     assert "The grid sweeps tip_radius (0.5, 4)" in page
     assert "reads **tip_radius = 0.5** only (the first listed combination with done jobs" in page
     assert "Not read: tip_radius = 4 (84 done jobs)" in page
-    captions = [line for line in page.splitlines() if line.startswith("### ")]
+    figs = page.split("## Figures")[1].split("## Tables")[0]        # the figures come first
+    captions = [line for line in figs.splitlines() if line.startswith("### ")]
     assert captions and all(c.endswith("(tip_radius = 0.5)") for c in captions)
     html = (tmp_path / "rep" / "report.html").read_text()
     assert "tip_radius = 0.5" in html and "Not read: tip_radius = 4" in html

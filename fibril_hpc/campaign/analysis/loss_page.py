@@ -1,6 +1,7 @@
 """The page's words on the measured loss of adhesion (:mod:`..laws.loss`): per k~ where adhesion
-is lost along sigma~ (model-free), and where alpha/beta's extrapolated sigma~_c disagrees with
-it, in plain words. Inputs: the per-k~ studies (:class:`..laws.study.KStudy`)."""
+is lost along sigma~ (model-free), for a table cell, and the search grid's sigma~ limit. Inputs:
+the per-k~ studies (:class:`..laws.study.KStudy`). The headline says it per k~
+(:mod:`.headline`); alpha/beta's zero beside it is :mod:`.zero_cell`'s."""
 
 from __future__ import annotations
 
@@ -8,26 +9,35 @@ import math
 
 from ..laws import loss as _loss
 from ..laws.loss import fmt_ci
-from ..laws.reading import FEW_PILLARS
+
+
+def measured_span(st) -> tuple:
+    """The honest interval of one k~'s measured sigma~_c: its bracket (lo, hi], widened where a
+    state beside the loss is not certain with its seeds (``laws.loss.Loss.span``; without it,
+    to the crossing's seed interval where that reaches beyond the bracket)."""
+    loss = getattr(st, "loss", None)
+    if loss is not None and hasattr(loss, "span"):
+        return tuple(loss.span) if loss.uncertain else tuple(st.loss_bracket)
+    (lo, hi), (a, b) = st.loss_bracket, st.sigma_loss_ci
+    return (min(lo, a) if math.isfinite(a) else lo, max(hi, b) if math.isfinite(b) else hi)
+
+
+def span_text(span) -> str:
+    """'(lo, hi]' of :func:`measured_span` (∞ for an open end)."""
+    return f"({span[0]:.4g}, {'∞' if span[1] == math.inf else f'{span[1]:.4g}'}]"
 
 
 def measured_cell(st) -> str:
-    """The measured sigma~_c of one k~ for a table cell: 'value [CI] in (lo, hi]', or the bound."""
+    """The measured sigma~_c of one k~ for a table cell: 'value [CI] in (lo, hi]' (the span of
+    :func:`measured_span`), or the bound."""
     lo, hi = st.loss_bracket
     if st.loss_kind == _loss.BRACKET:
-        return f"{fmt_ci(st.sigma_loss, st.sigma_loss_ci)} in ({lo:.4g}, {hi:.4g}]"
+        return f"{fmt_ci(st.sigma_loss, st.sigma_loss_ci)} in {span_text(measured_span(st))}"
     if st.loss_kind == _loss.NO_LOSS:
         return f"> {lo:g} (no loss up to the largest σ̃ run)"
     if st.loss_kind == _loss.ALL_LOST:
         return f"< {hi:g} (lost at every σ̃ run)"
     return "—"
-
-
-def verdict_cell(st) -> str:
-    """alpha/beta against the measured loss for a table cell: a disagreement in bold."""
-    if not st.loss_vs_law:
-        return "—"
-    return st.loss_vs_law if st.loss_vs_law == _loss.AGREE else f"**{st.loss_vs_law}**"
 
 
 def search_max(meta) -> float:
@@ -46,44 +56,4 @@ def search_max(meta) -> float:
         return math.nan
 
 
-def headline_lines(studies: dict, sigma_max: float = math.nan) -> list:
-    """The headline's lines: where adhesion is lost per k~, then every k~ whose alpha/beta
-    sigma~_c disagrees with it (one line each), then those that agree. ``sigma_max``: a search
-    grid's upper limit of sigma~ (:func:`search_max`): a k~ without a loss up to it is said to
-    have reached the search's limit."""
-    if not studies:
-        return []
-    by: dict = {}
-    for k, st in studies.items():
-        by.setdefault(st.loss_kind, []).append((k, st))
-    parts = []
-    if by.get(_loss.BRACKET):
-        parts.append("; ".join(f"k~ = {k:g} at {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} "
-                               f"(bracket {st.loss_bracket[0]:g}-{st.loss_bracket[1]:g})"
-                               for k, st in by[_loss.BRACKET]))
-    if by.get(_loss.NO_LOSS):
-        parts.append("no loss up to the largest sigma~ run for k~ = " + ", ".join(
-            f"{k:g} (sigma~_c > {st.loss_bracket[0]:g}"
-            + (", the search's limit sigma_tilde.auto.max: raise it to look further"
-               if st.loss_bracket[0] >= sigma_max else "") + ")"
-            for k, st in by[_loss.NO_LOSS]))
-    if by.get(_loss.ALL_LOST):
-        parts.append("lost at every sigma~ run for k~ = " + ", ".join(
-            f"{k:g} (sigma~_c < {st.loss_bracket[1]:g})" for k, st in by[_loss.ALL_LOST]))
-    if by.get(_loss.NOT_READ):
-        parts.append("not measured for k~ = " + ", ".join(f"{k:g}" for k, _ in by[_loss.NOT_READ]))
-    lines = ["Measured sigma~_c (model-free: where the seed-mean plateau falls to "
-             f"{FEW_PILLARS:g} pillars' pull-off, interpolated between the last sigma~ holding "
-             "adhesion and the first lost): " + "; ".join(parts) + "."]
-    bad = [(k, st) for k, st in studies.items()
-           if st.loss_vs_law in (_loss.ABOVE, _loss.BELOW)]
-    for k, st in bad:
-        lines.append(f"**k~ = {k:g}: {st.loss_vs_law_why}.**")
-    good = [k for k, st in studies.items() if st.loss_vs_law == _loss.AGREE]
-    if good:
-        lines.append("alpha/beta's sigma~_c agrees with the measured loss for k~ = "
-                     + ", ".join(f"{k:g}" for k in good) + ".")
-    return lines
-
-
-__all__ = ["measured_cell", "verdict_cell", "headline_lines"]
+__all__ = ["measured_cell", "measured_span", "span_text", "search_max"]

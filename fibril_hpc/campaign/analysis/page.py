@@ -1,9 +1,10 @@
 """The report's two pages: ``README.md`` (figures beside it as PNG files) and ``report.html``
 (one self-contained file: the same text and tables, every figure embedded as a data URI).
 
-The first lines say what the campaign gives and, where alpha and beta are empty, why and which
-grid would give them (:func:`.report_data.headline`). The definitions are those of
-``docs/report.md`` in short.
+A referee's order: the headline (at most four lines, :func:`.headline.headline`: where the
+brush loses adhesion per k~, and what that is of), the figures, the tables, the notes (each said
+once, :func:`.headline.notes`), the definitions (those of ``docs/report.md`` in short). One
+notation throughout, the symbols (:func:`.notation.page_text`).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import os
 import re
 
 from ..storage.guard import REPORT_MARK
+from .notation import page_text
 from .variants import label, show_value
 
 DEFINITIONS = """\
@@ -40,19 +42,17 @@ DEFINITIONS = """\
 * **c₀** (the first-contact slope): the geometric mean of F̃_A/F̃_P over the preloads in the first
   quarter of the rise, where a few pillars carry the pull-off. It depends on the smallest preload
   (given beside it).
-* **α, β, σ̃_c**: c = max(α/σ̃ − β, 0) fitted per k̃ (scipy.optimize.least_squares, weights 1/sd of
-  c from the seeds); groups that lost adhesion enter with c = 0; σ̃ = 0, plateaus not reached and
-  rises not resolved do not. The law is *fitted* only when χ² is below its 99 % point and α's
-  interval excludes 0; a *poor fit* is shown for orientation; otherwise *undefined*, with the
-  reason. σ̃_c = α/β is *measured* when the law is fitted, β's interval excludes 0 and no σ̃ lost
-  adhesion (an extrapolation); where one did, the model-free data bracket (largest σ̃ with c > 0,
-  smallest with c = 0) is the measurement: α/β inside it is *pinned* by the c = 0 point, outside
-  it *undefined* (the line crosses 0 beyond the measured loss).
-* **Measured σ̃_c** (model-free): per k̃, the first lost σ̃ with a σ̃ holding adhesion below it
-  brackets the loss; σ̃_c is where the seed-mean plateau crosses 3 pillars' pull-off between the
-  two (log–log), its interval from the same bootstrap. *α/β against the measured loss*: they
-  agree when α/β's seed interval overlaps the bracket; *law above* (it overshoots: c > 0 where
-  adhesion is lost) or *below* when it lies wholly beyond it.
+* **Measured σ̃_c** (model-free, the headline's number): per k̃, the first lost σ̃ with a σ̃
+  holding adhesion below it brackets the loss; σ̃_c is where the seed-mean plateau crosses 3
+  pillars' pull-off between the two (log–log), its interval from the same bootstrap.
+* **α, β** and the **zero of the line**: c = max(α/σ̃ − β, 0) fitted per k̃
+  (scipy.optimize.least_squares, weights from the seed scatter of c); groups that lost adhesion
+  enter with c = 0; σ̃ = 0, plateaus not reached and rises not resolved do not. The law is
+  *fitted* only when χ² is below its 99 % point and α's interval excludes 0; a *poor fit* is
+  shown for orientation; otherwise *undefined*, with the reason. Where the line is fitted and
+  β's interval excludes 0 its zero α/β is given as what it is, an extrapolation of the line,
+  described against the measured span: *inside*, *above* (the line still gives c > 0 where
+  adhesion is lost) or *below* it. It is never a second σ̃_c.
 * **Errors**: [seed CI] is a bootstrap over seeds (seed labels resampled jointly for a k̃, every
   reading redone), its 2.5–97.5 % range widened about the value by t/z·√(n/(n−1)) for n seeds
   (over synthetic groups of known truth it then held the true c in 90 % of draws at 3 seeds and
@@ -64,11 +64,9 @@ DEFINITIONS = """\
 
 
 def _summary(d) -> str:
-    seeds = sorted({g.n_seeds for st in d.studies.values() for g in st.groups})
     s = (f"{d.n_jobs} job records: {d.n_done} done, {d.n_failed} failed"
          + (f", {d.n_nonfinite} done with non-finite forces (left out)" if d.n_nonfinite else "")
-         + f"; campaign `{d.meta.get('campaign_hash', '?')}`; preset `{d.preset or '?'}`; "
-         + f"seeds per (k̃, σ̃): {', '.join(map(str, seeds)) or '—'}; "
+         + f"; campaign `{d.meta.get('campaign_hash', '?')}`; "
          + f"{d.n_boot} bootstrap resamples over seeds.")
     if len(d.machines) > 1:
         s += (f" The grid sweeps the machine stiffness k̃_m ({', '.join(f'{k:g}' for k in d.machines)}); "
@@ -114,19 +112,32 @@ def _definitions(d) -> str:
     return DEFINITIONS + (SIZE_DEFINITION if d.n_sides else "")
 
 
+TABLES_NOTE = ("Every table is also a CSV file beside this page (full precision, one column per "
+               "number; every column defined in docs/report.md); `report.html` is this page "
+               "with the figures embedded.")
+
+
+def _notes(d, seconds) -> list:
+    """The notes section: :attr:`.report_data.ReportData.notes`, then the file's summary."""
+    return list(d.notes) + [_summary(d) + (f" Report written in {seconds:.1f} s."
+                                           if seconds else "")]
+
+
 def markdown(d, tables, figures, seconds=None) -> str:
-    """The Markdown page: headline, summary, tables, definitions, figures (relative links)."""
+    """The Markdown page: headline, figures (relative links), tables, notes, definitions; in
+    one notation (:func:`.notation.page_text`)."""
     out = [f"# Report of `{os.path.abspath(d.path)}`", ""]
-    out += [f"**{line}**" if i == 0 else line for i, line in enumerate(d.headline)]
-    out += ["", _summary(d) + (f" Report written in {seconds:.1f} s." if seconds else ""), ""]
-    out += ["Every table is also a CSV file beside this page (full precision, one column per "
-            "number); `report.html` is this page with the figures embedded.", ""]
-    for t in tables:
-        out += [f"## {t.title} (`{t.name}.csv`)", "", t.markdown()]
-    out += ["## Definitions", "", _definitions(d), "## Figures", ""]
+    for i, line in enumerate(d.headline):
+        out += [f"**{line}**" if i == 0 else line, ""]
+    out += ["## Figures", ""]
     for title, p in figures:
         out += [f"### {title}", "", f"![{title}]({os.path.basename(p)})", ""]
-    return "\n".join(out)
+    out += ["## Tables", "", TABLES_NOTE, ""]
+    for t in tables:
+        out += [f"### {t.title} (`{t.name}.csv`)", "", t.markdown()]
+    out += ["## Notes", ""] + [f"* {n}" for n in _notes(d, seconds)]
+    out += ["", "## Definitions", "", _definitions(d)]
+    return "\n".join(page_text(line) for line in out)
 
 
 _CSS = """body{font-family:sans-serif;max-width:1300px;margin:1em auto;padding:0 1em;color:#222}
@@ -157,23 +168,27 @@ def _definitions_html(text: str) -> str:
 
 
 def html_page(d, tables, figures, seconds=None) -> str:
-    """The self-contained HTML page: every figure embedded as a base64 PNG data URI."""
+    """The self-contained HTML page, in the order and notation of :func:`markdown`: every
+    figure embedded as a base64 PNG data URI."""
     title = html.escape(os.path.abspath(d.path))
     parts = ["<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>" + REPORT_MARK,
              f"<title>Report of {title}</title><style>{_CSS}</style></head><body>",
              f"<h1>Report of <code>{title}</code></h1><div class='head'>"]
-    parts += [f"<p>{_inline(line)}</p>" for line in d.headline]
-    summ = _summary(d) + (f" Report written in {seconds:.1f} s." if seconds else "")
-    parts += [f"</div><p>{_inline(summ)}</p>"]
-    for t in tables:
-        parts += [f"<h2>{html.escape(t.title)}</h2>", t.html()]
-    parts += ["<h2>Definitions</h2>", _definitions_html(_definitions(d)), "<h2>Figures</h2>"]
+    parts += [f"<p>{_inline(page_text(line))}</p>" for line in d.headline]
+    parts += ["</div>", "<h2>Figures</h2>"]
     for ftitle, p in figures:
         with open(p, "rb") as fh:
             b64 = base64.b64encode(fh.read()).decode("ascii")
-        alt = html.escape(ftitle, quote=True)
-        parts += [f"<h3>{html.escape(ftitle)}</h3>",
+        alt = html.escape(page_text(ftitle), quote=True)
+        parts += [f"<h3>{html.escape(page_text(ftitle))}</h3>",
                   f"<figure><img class='figure' alt='{alt}' src='data:image/png;base64,{b64}'>"
                   "</figure>"]
+    parts += ["<h2>Tables</h2>", f"<p>{_inline(TABLES_NOTE)}</p>"]
+    for t in tables:
+        parts += [f"<h3>{html.escape(page_text(t.title))} (<code>{t.name}.csv</code>)</h3>",
+                  t.html()]
+    parts += ["<h2>Notes</h2><ul>"] + [f"<li>{_inline(page_text(n))}</li>"
+                                       for n in _notes(d, seconds)] + ["</ul>"]
+    parts += ["<h2>Definitions</h2>", _definitions_html(page_text(_definitions(d)))]
     parts.append("</body></html>")
     return "\n".join(parts)

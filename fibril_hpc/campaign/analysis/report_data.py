@@ -1,6 +1,6 @@
 """The report's numbers: a campaign's done jobs turned into the per-k~ studies of
-:mod:`.laws.study`, the law comparison of :mod:`.fit`, the preset's bias and the page's
-headline (what the campaign gives, and why not where it gives nothing).
+:mod:`.laws.study`, the law comparison of :mod:`.fit`, the preset's bias, the brush read, and
+the page's headline and notes (:mod:`.headline`).
 
 Reads any campaign :func:`.data.load_campaign` reads: failed and non-finite jobs are counted
 and left out, a machine sweep is reported at its stiffest machine, a campaign still being
@@ -21,27 +21,16 @@ import numpy as np
 
 from ...errors import ConfigError
 from ..laws import fit as _fit
-from ..laws.intervals import dominant, preset_bias
-from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED, levels, pillar_floor
-from ..laws.size import DIFFERS, WITHIN, size_rows
-from ..laws.study import N_BOOT, beta_is_zero, study
-from .loss_page import headline_lines as loss_lines
-from .loss_page import search_max
-from .seed_limits import headline_line as seeds_line
+from ..laws.intervals import preset_bias
+from ..laws.reading import FEW_PILLARS, levels, pillar_floor
+from ..laws.size import size_rows
+from ..laws.study import N_BOOT, study
+from .headline import headline, notes
 from .seed_limits import seed_limits, seeds_auto
 from .variants import Variant, select
 
 #: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
 POOR_FACTOR = 2.0
-#: what a grid needs for alpha and beta (said on the page when a campaign cannot give them)
-GRID_ADVICE = ("alpha and beta need, per k~, at least two sigma~ > 0 whose F~_A rises with "
-               "preload to a plateau the campaign reaches: sigma~ between about 0.07 and 0.9 "
-               "(on 18 x 18 pillars F~_A rises there for k~ from 1 to 0.001, and stays flat at "
-               "the last pillar's pull-off at sigma~ = 2.1 for k~ = 1) and preloads from the "
-               "first contacts to the plateau - `F_P: auto` places them (campaigns/demo.yaml "
-               "is such a grid)")
-
-
 @dataclass
 class LawRow:
     """One law fitted to one (k~, sigma~): its fit, residual against the seed scatter."""
@@ -86,6 +75,10 @@ class ReportData:
     #: maximum short of the target (:mod:`.seed_limits`)
     seeds_auto: dict | None = None
     seed_limits: list = field(default_factory=list)
+    #: (n_side, phi, tip) of the brush read (:func:`campaign_brush`)
+    brush: tuple = (None, math.nan, "")
+    #: every other line the page says once, below the tables (:func:`.headline.notes`)
+    notes: list = field(default_factory=list)
 
     def main_jobs(self, jobs) -> list:
         """The jobs the per-(k~, sigma~) readings use: those of :attr:`variant` and
@@ -160,11 +153,10 @@ def campaign_preset(meta, jobs) -> tuple[str, float | None]:
     return "", None
 
 
-def campaign_floor(meta, jobs, n_side=None) -> tuple[float, str]:
-    """(one pillar's pull-off, how it was computed) from the campaign's scene
-    (:func:`_scene_maps`): ``n_side`` (the one read, else the scene's) and ``phi``; NaN (and
-    why) when no scene tells, or when the pillars are not flat punches (the floor is Kendall's
-    flat punch)."""
+def campaign_brush(meta, jobs, n_side=None) -> tuple:
+    """(n_side, phi, tip) of the campaign's brush (:func:`_scene_maps`): ``n_side`` the one read
+    when given, else the scene's; the scene defaults where a field is not stored; (None, NaN,
+    "") when no scene tells."""
     from ...inputs.scene import Scene
 
     dflt = Scene()
@@ -174,15 +166,24 @@ def campaign_floor(meta, jobs, n_side=None) -> tuple[float, str]:
             phi = float(d.get("phi", dflt.phi))
         except (TypeError, ValueError):
             continue
-        if str(d.get("tip", "flat")) != "flat":
-            return math.nan, "no pillar floor: the tips are not flat punches"
-        if n < 1 or not 0 < phi < 1:
-            continue
-        f = pillar_floor(n, phi)
-        return f, (f"one flat pillar's Kendall pull-off phi^(1/4) / N^(3/4) = {f:.3g} for "
-                   f"N = {n * n} pillars at phi {phi:g}; adhesion lost: a plateau of at most "
-                   f"{FEW_PILLARS:g} x that ({FEW_PILLARS * f:.3g})")
-    return math.nan, "no scene to tell the pillar floor"
+        if n >= 1 and 0 < phi < 1:
+            return n, phi, str(d.get("tip", "flat"))
+    return None, math.nan, ""
+
+
+def campaign_floor(meta, jobs, n_side=None) -> tuple[float, str]:
+    """(one pillar's pull-off, how it was computed) from the campaign's brush
+    (:func:`campaign_brush`); NaN (and why) when no scene tells, or when the pillars are not
+    flat punches (the floor is Kendall's flat punch)."""
+    n, phi, tip = campaign_brush(meta, jobs, n_side)
+    if n is None:
+        return math.nan, "no scene to tell the pillar floor"
+    if tip != "flat":
+        return math.nan, "no pillar floor: the tips are not flat punches"
+    f = pillar_floor(n, phi)
+    return f, (f"one flat pillar's Kendall pull-off phi^(1/4) / N^(3/4) = {f:.3g} for "
+               f"N = {n * n} pillars at phi {phi:g}; adhesion lost: a plateau of at most "
+               f"{FEW_PILLARS:g} x that ({FEW_PILLARS * f:.3g})")
 
 
 def grid_n_sides(meta) -> list:
@@ -225,125 +226,6 @@ def law_rows(points: dict, studies: dict) -> dict:
     return out
 
 
-def headline(d: ReportData) -> list:
-    """The page's first lines: what the campaign gives, what it does not and why (a poor fit is
-    never "fitted"; an undefined alpha, beta or sigma~_c says why), the states of the groups."""
-    lines = []
-    if not d.studies:
-        lines.append(f"No done job with finite forces ({d.n_jobs} job records, {d.n_failed} "
-                     "failed): nothing to read. " + GRID_ADVICE + ".")
-        return lines
-    by = {s: [k for k, st in d.studies.items() if st.status == s]
-          for s in ("fitted", "poor fit", "undefined")}
-    ks = ", ".join
-    if by["fitted"]:
-        lines.append("alpha and beta fitted within the seed scatter for k~ = "
-                     + ks(f"{k:g}" for k in by["fitted"]) + f" (of {len(d.studies)} k~).")
-    else:
-        lines.append(f"alpha and beta fitted within the seed scatter for none of the "
-                     f"{len(d.studies)} k~.")
-    flat = [k for k in by["fitted"] if beta_is_zero(d.studies[k])]
-    if flat:
-        lines.append("beta is consistent with 0 for k~ = " + ks(f"{k:g}" for k in flat)
-                     + ": only alpha is determined there (c falls as alpha/sigma~), and no "
-                     "sigma~_c.")
-    if by["poor fit"]:
-        lines.append("POOR FIT (c = alpha/sigma~ - beta does not describe c within the seed "
-                     "scatter; alpha and beta shown for orientation only) for k~ = "
-                     + ks(f"{k:g} (chi^2/dof {d.studies[k].ab.chi2_red:.3g})"
-                          for k in by["poor fit"]) + ".")
-    if by["undefined"]:
-        out: dict = {}
-        for k in by["undefined"]:
-            for g in d.studies[k].groups:
-                if g.why_out:
-                    out.setdefault(g.why_out.split(":")[0], []).append(
-                        f"({k:g}, {g.sigma_tilde:g})")
-        why = "; ".join(f"{w}: {', '.join(v)}" for w, v in out.items())
-        lines.append("alpha and beta undefined for k~ = " + ks(f"{k:g}" for k in by["undefined"])
-                     + ": " + "; ".join(f"k~ = {k:g}: {d.studies[k].status_why}"
-                                        for k in by["undefined"])
-                     + (f". Left out of the fit: {why}" if why else "") + "."
-                     # the grid advice where too few sigma~ could be fitted, not where the law
-                     # was fitted and failed (alpha consistent with 0 on many rising groups)
-                     + ("" if all(d.studies[k].ab.ok for k in by["undefined"])
-                        else " " + GRID_ADVICE + "."))
-    sc = {s: [k for k, st in d.studies.items() if st.sigma_c_status == s]
-          for s in ("measured", "pinned")}
-    if sc["measured"] or sc["pinned"]:
-        lines.append("sigma~_c = alpha/beta " + "; ".join(
-            p for p in (("measured by the law for k~ = " + ks(f"{k:g}" for k in sc["measured"]))
-                        if sc["measured"] else "",
-                        ("pinned to the data bracket for k~ = " + ks(f"{k:g}" for k in sc["pinned"])
-                         + " (the bracket is the measurement)") if sc["pinned"] else "") if p)
-                     + "; elsewhere undefined (see the alpha/beta table).")
-    lines += loss_lines(d.studies, search_max(d.meta))
-    states: dict = {}
-    for st in d.studies.values():
-        for g in st.groups:
-            states[g.reading.state] = states.get(g.reading.state, 0) + 1
-    n_groups = sum(states.values())
-    lines.append("States of the " + str(n_groups) + " (k~, sigma~): "
-                 + ", ".join(f"{v} {s}" for s, v in sorted(states.items()))
-                 + (f" (pillar floor: {d.floor_note})" if d.floor_note else "") + ".")
-    if states.get(UNRESOLVED):
-        lines.append(f"{states[UNRESOLVED]} (k~, sigma~) have a rise not resolved: F~_A is "
-                     "already near the plateau at the smallest preload reached, c is only a "
-                     "lower bound and stays out of the fit (the coefficients table says which "
-                     "preload would resolve it).")
-    if states.get(LOST):
-        lines.append(f"{states[LOST]} (k~, sigma~) have lost adhesion (a plateau within "
-                     f"{FEW_PILLARS:g} pillars' pull-off: c = 0 by that threshold, weighted in "
-                     "the fit by the secant its few pillars draw).")
-    dom: dict = {}
-    for st in d.studies.values():
-        for g in st.groups:
-            for name, v, ci in (("plateau", g.reading.plateau, g.plateau_ci),
-                                ("c", g.reading.c, g.c_ci)):
-                dom.setdefault(name, []).append(dominant(v, ci, d.bias))
-    if any(x != "unknown" for v in dom.values() for x in v):
-        lines.append("Larger error: " + "; ".join(
-            f"{name}: the seeds in {v.count('seeds')}, the discretisation in "
-            f"{v.count('discretisation')} of {len(v)} (k~, sigma~)" for name, v in dom.items())
-            + ".")
-    if d.seeds_auto:
-        lines.append(seeds_line(d.seeds_auto, d.seed_limits))
-    if d.n_sides:
-        lines.append(size_headline(d))
-    if math.isfinite(d.bias):
-        lines.append(f"Discretisation bias: {d.bias_note} ({100 * d.bias:+.1f} % on every "
-                     "force-like number; measured on one scene, carried over as an assumption).")
-    else:
-        lines.append(f"Discretisation bias: {d.bias_note}.")
-    return lines
-
-
-def size_headline(d: ReportData) -> str:
-    """The finite-size line of the headline: per smaller n_side, the range of the plateau's
-    relative change against the largest n_side, and in how many (k~, sigma~) it is within the
-    seed scatter."""
-    ref = max(d.n_sides)
-    text = (f"Finite size: n_side = {', '.join(map(str, d.n_sides))}; the other tables and "
-            f"figures read n_side = {d.n_side if d.n_side is not None else '—'}"
-            + (" (the largest with done jobs)" if d.n_side not in (None, ref) else "")
-            + f". Plateau against n_side = {ref}: ")
-    parts = []
-    for n in d.n_sides:
-        rows = [r for r in d.size if r.n_side == n and n != ref]
-        rel = sorted(100 * r.rel for r in rows if math.isfinite(r.rel))
-        if n == ref or not rows:
-            continue
-        if not rel:
-            parts.append(f"n_side = {n}: no relative change (no plateau at {ref})")
-            continue
-        within = sum(r.verdict == WITHIN for r in rows)
-        known = sum(r.verdict in (WITHIN, DIFFERS) for r in rows)
-        parts.append(f"n_side = {n}: {rel[0]:+.1f} … {rel[-1]:+.1f} %"
-                     + (f" (within the seed scatter in {within} of {known} (k~, sigma~))"
-                        if known else ""))
-    return text + ("; ".join(parts) if parts else "no smaller n_side with a plateau yet") + "."
-
-
 def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
     """The report's numbers from a loaded campaign (:class:`.data.CampaignData`); ``where``:
     the values of the swept lab fields to read (:func:`.variants.select`: ``NAME=VALUE``
@@ -384,5 +266,6 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
                    n_boot=n_boot, n_sides=n_sides, n_side=n_read, size=rows, variant=variant,
                    floor=floor, floor_note=floor_note, seeds_auto=seeds_auto(c.meta))
     d.seed_limits = seed_limits(points, floor, d.seeds_auto)
-    d.headline = headline(d)
+    d.brush = campaign_brush(c.meta, done, n_read)
+    d.headline, d.notes = headline(d), notes(d)
     return d

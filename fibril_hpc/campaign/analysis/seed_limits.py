@@ -46,8 +46,9 @@ class SeedLimit:
 
     def what(self) -> str:
         """The page's words for this group (its table row's note)."""
-        return (f"hit the maximum of {self.max_seeds} seeds of seeds: auto ({self.n_seeds} run) "
-                f"short of the target: {self.short}")
+        run = f"{self.n_seeds} seeds" + (f"; the maximum is {self.max_seeds}"
+                                         if self.n_seeds != self.max_seeds else "")
+        return f"stopped at the seeds: auto maximum ({run}) short of the target: {self.short}"
 
 
 def shortfall(prec, width: float) -> str:
@@ -84,18 +85,4 @@ def seed_limits(points: dict, floor: float, auto: dict | None) -> list:
     return out
 
 
-def headline_line(auto: dict | None, limits: list) -> str:
-    """The page's line on ``seeds: auto`` ("" without it)."""
-    if not auto:
-        return ""
-    head = (f"seeds: auto (from {auto['start']}, at most {auto['max']} per (k~, sigma~), target: "
-            f"intervals {100 * auto['width']:.0f} % wide)")
-    if not limits:
-        return head + ": no (k~, sigma~) hit the maximum short of the target."
-    return (head + f": {len(limits)} (k~, sigma~) hit the maximum of seeds without meeting the "
-            "target (their intervals are as narrow as the campaign could make them, not as "
-            "asked): " + "; ".join(f"k~ = {x.k_tilde:g}, sigma~ = {x.sigma_tilde:g} "
-                                  f"({x.n_seeds} seeds: {x.short})" for x in limits) + ".")
-
-
-__all__ = ["seeds_auto", "seed_limits", "SeedLimit", "shortfall", "headline_line"]
+__all__ = ["seeds_auto", "seed_limits", "SeedLimit", "shortfall"]

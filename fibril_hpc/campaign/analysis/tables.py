@@ -17,7 +17,9 @@ from dataclasses import dataclass, field
 
 from ..laws.intervals import dominant
 from ..laws.size import DIFFERS
-from .loss_page import measured_cell, verdict_cell
+from .loss_page import measured_cell
+from .notation import clauses, once, page_text
+from .zero_cell import zero_cell
 
 
 @dataclass
@@ -37,7 +39,8 @@ class Table:
 
     def markdown(self) -> str:
         """The Markdown table (pipes in cells escaped)."""
-        rows = [[str(c).replace("|", "\\|").replace("\n", " ") for c in r] for r in self.page_rows]
+        rows = [[page_text(c).replace("|", "\\|").replace("\n", " ") for c in r]
+                for r in self.page_rows]
         if not rows:
             return ""
         out = ["| " + " | ".join(rows[0]) + " |", "|" + " --- |" * len(rows[0])]
@@ -49,7 +52,7 @@ class Table:
         if not self.page_rows:
             return ""
         def cell(c):                # **x** (a flag on the page) becomes bold
-            return re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", html.escape(str(c)))
+            return re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", html.escape(page_text(c)))
 
         head = "".join(f"<th>{cell(c)}</th>" for c in self.page_rows[0])
         body = "".join("<tr>" + "".join(f"<td>{cell(c)}</td>" for c in r) + "</tr>"
@@ -93,10 +96,20 @@ def _ci_csv(ci) -> list:
     return [num(ci[0]), num(ci[1])]
 
 
+def _ab_note(st) -> str:
+    """The alpha/beta row's note, each clause once: why the law is not fitted, what the loss
+    adds to the measured cell (an uncertain state, adhesion found again), the fit's notes.
+    The zero's relation to the loss is its own cell (:func:`.zero_cell.zero_cell`)."""
+    extra = clauses(st.loss_note)[1:]
+    return once([st.status_why] + extra + st.ab.notes + st.notes)
+
+
 def alpha_beta(d) -> Table:
-    """Per k~: alpha, beta, sigma~_c with seed intervals, what the page may claim of them (a
-    poor fit for orientation, undefined values with their reason), the bias, quality, notes."""
-    t = Table("alpha_beta", "α, β, σ̃_c per k̃ (c = max(α/σ̃ − β, 0))")
+    """Per k~: the measured sigma~_c first; then alpha, beta with seed intervals (a poor fit
+    for orientation, an undefined law with its reason) and the line's zero alpha/beta, an
+    extrapolation described against the measured span, never a second sigma~_c; the bias,
+    quality, notes."""
+    t = Table("alpha_beta", "σ̃_c measured, and c = max(α/σ̃ − β, 0) per k̃")
     t.csv_rows.append(["k_tilde", "status", "alpha", "alpha_lo", "alpha_hi", "beta", "beta_lo",
                        "beta_hi", "sigma_tilde_c", "sigma_tilde_c_lo", "sigma_tilde_c_hi",
                        "sigma_tilde_c_status", "bracket_c_positive_up_to", "bracket_c_zero_from",
@@ -105,15 +118,13 @@ def alpha_beta(d) -> Table:
                        "sigma_tilde_c_measured_lo", "sigma_tilde_c_measured_hi", "loss_kind",
                        "loss_bracket_lo", "loss_bracket_hi", "loss_vs_law", "loss_vs_law_why",
                        "note"])
-    t.page_rows.append(["k̃", "law", "σ̃_c measured: adhesion lost [seed CI] in its bracket "
-                        "(model-free)", "α [seed CI]", "β [seed CI]", "σ̃_c = α/β [seed CI]",
-                        "α/β against the measured loss", "σ̃ in fit (c = 0)", "χ²/dof",
-                        "bias of α", "larger error", "note"])
+    t.page_rows.append(["k̃", "σ̃_c measured: adhesion lost [seed CI] in its bracket "
+                        "(model-free)", "law", "α [seed CI]", "β [seed CI]",
+                        "zero of the line, α/β: an extrapolation [seed CI]",
+                        "σ̃ in fit (c = 0)", "χ²/dof", "bias of α", "larger error", "note"])
     for k, st in d.studies.items():
         a = st.ab
-        note = "; ".join([w for w in (st.status_why, st.sigma_c_why) if w]
-                         + ([st.loss_vs_law_why] if st.loss_vs_law else [st.loss_note])
-                         + a.notes + st.notes)
+        note = _ab_note(st)
         dom = dominant(a.alpha, st.alpha_ci, d.bias)
         t.csv_rows.append([repr(k), st.status, num(a.alpha), *_ci_csv(st.alpha_ci), num(a.beta),
                            *_ci_csv(st.beta_ci), num(a.sigma_c), *_ci_csv(st.sigma_c_ci),
@@ -124,16 +135,10 @@ def alpha_beta(d) -> Table:
                            num(st.loss_bracket[1]), st.loss_vs_law, st.loss_vs_law_why, note])
         shown = st.status != "undefined"
         law = st.status if st.status == "fitted" else f"**{st.status}**"
-        if st.sigma_c_status == "measured":
-            sc = val_ci(a.sigma_c, st.sigma_c_ci, ".3g")
-        elif st.sigma_c_status == "pinned":
-            sc = f"{fmt(a.sigma_c, '.3g')} (**pinned** to the bracket)"
-        else:
-            sc = "undefined"
-        t.page_rows.append([f"{k:g}", law, measured_cell(st),
-                            val_ci(a.alpha, st.alpha_ci) if shown else "undefined",
-                            val_ci(a.beta, st.beta_ci) if shown else "undefined", sc,
-                            verdict_cell(st), f"{a.n_points} ({a.n_zero})", fmt(a.chi2_red, ".3g")
+        t.page_rows.append([f"{k:g}", measured_cell(st), law,
+                            val_ci(a.alpha, st.alpha_ci) if shown else "—",
+                            val_ci(a.beta, st.beta_ci) if shown else "—", zero_cell(st),
+                            f"{a.n_points} ({a.n_zero})", fmt(a.chi2_red, ".3g")
                             + (" **poor fit**" if a.poor else ""),
                             bias_cell(a.alpha, d.bias) if shown else "—", dom, note])
     return t
@@ -167,7 +172,7 @@ def plateau(d) -> Table:
             top = float(lv.F_P[full[-1]]) if full else math.nan
             dom = dominant(r.plateau, g.plateau_ci, d.bias)
             lim = at_max.get((k, g.sigma_tilde))
-            note = "; ".join(r.notes + ([lim] if lim else []))
+            note = once(r.notes + ([lim] if lim else []))
             t.csv_rows.append([repr(k), repr(g.sigma_tilde), num(r.plateau),
                                *_ci_csv(g.plateau_ci), r.plateau_state, num(r.plateau_from),
                                str(r.n_plateau), num(top), num(r.top_lo), num(r.top_hi),
@@ -178,7 +183,7 @@ def plateau(d) -> Table:
                                 state, _state_cell(r), fmt(r.plateau_from, ".3g"),
                                 f"{fmt(r.top_lo)} … {fmt(r.top_hi)} at {fmt(top, '.3g')}",
                                 _seed_counts(r), bias_cell(r.plateau, d.bias), dom,
-                                "; ".join(r.notes + ([f"**{lim}**"] if lim else []))])
+                                once(r.notes + ([f"**{lim}**"] if lim else []))])
     return t
 
 
@@ -213,7 +218,7 @@ def coefficients(d) -> Table:
             r = g.reading
             rr = res.get(g.sigma_tilde, math.nan) if g.in_fit else math.nan
             dom = dominant(r.c, g.c_ci, d.bias)
-            note = "; ".join(r.c_notes)
+            note = once(r.c_notes)
             t.csv_rows.append([repr(k), repr(g.sigma_tilde), r.state, num(r.c), *_ci_csv(g.c_ci),
                                num(r.c_res), num(r.c_lower), num(r.c_stage), num(r.c_chord), str(r.n_stage),
                                num(r.F_P_half), num(r.resolve_below), num(r.c0),
@@ -224,8 +229,30 @@ def coefficients(d) -> Table:
                        else ("yes (no fit)" if g.in_fit else f"no: {g.why_out}"))
             t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", _state_cell(r), _c_cell(r, g.c_ci),
                                 fmt(r.F_P_half, ".3g"), val_ci(r.c0, g.c0_ci), fmt(r.F_P0, ".3g"),
-                                fitcell, bias_cell(r.c, d.bias), dom, note])
+                                fitcell, bias_cell(r.c, d.bias), dom, _c_page_note(r)])
     return t
+
+
+#: the reading's long notes that recur on many rows, in the page's short form (the definitions
+#: say the rest once): the half point's spacing, c0 on the first-contact floor
+_SHORT = (
+    (re.compile(r"the half point lies between preloads (\S+) and (\S+) \(x (\S+) apart\): c is "
+                r"resolved to that factor at worst; preloads between them would refine it"),
+     r"c resolved to × \3 (half point between preloads \1 and \2)"),
+    (re.compile(r"c0 read on the first-contact floor \(F~_A hardly changes between the two "
+                r"smallest preloads\): a ratio F~_A/F~_P that grows as the preload shrinks"),
+     "c0 on the first-contact floor: a ratio, not a slope"),
+)
+
+
+def _c_page_note(r) -> str:
+    """The coefficients row's note on the page: what the plateau table's row does not already
+    say, recurring notes in their short form."""
+    said = {" ".join(x.split()) for x in r.notes}
+    text = "; ".join(x for x in r.c_notes if " ".join(x.split()) not in said)
+    for pat, rep in _SHORT:
+        text = pat.sub(rep, text)
+    return once([text])
 
 
 def law_comparison(d) -> Table:
