@@ -10,8 +10,10 @@ import math
 
 import numpy as np
 
+from ..laws import loss as _loss
 from ..laws.alphabeta import model as ab_model
 from .figures import FA, KT, SIG, colour, err, legend, save, say, subplots
+from .zero_cell import law_zero
 
 
 def _ab_label(k, st) -> str:
@@ -22,8 +24,8 @@ def _ab_label(k, st) -> str:
             why = "α consistent with 0"
         return f"{KT}={k:g}: α, β undefined ({why})"[:72]
     flag = " — POOR FIT" if st.status == "poor fit" else ""
-    sc = (f", {SIG}$_c$={a.sigma_c:.3g}" + (" (pinned)" if st.sigma_c_status == "pinned" else "")
-          if st.sigma_c_status in ("measured", "pinned") else f", {SIG}$_c$ undefined")
+    z = law_zero(st)[0]
+    sc = f", zero α/β={z:.3g} (extrapolated)" if math.isfinite(z) else ""
     return f"{KT}={k:g}: α={a.alpha:.3g}, β={a.beta:.3g}{sc}{flag}"
 
 
@@ -193,8 +195,9 @@ def plateau(data, out_dir, name="plateau.png"):
 def alpha_sigma_c(data, out_dir, name="alpha_sigma_c.png"):
     """alpha, beta and sigma~_c against k~, seed intervals, on linear axes wherever an interval
     reaches 0 or below (a log axis would hide it). Only k~ whose law is not undefined; open
-    markers: poor fit. sigma~_c: the model-free data bracket first (grey bars), the law's value
-    where it is measured (filled) or pinned to the bracket (open); missing values say why."""
+    markers: poor fit. sigma~_c: the measured one with its interval in its bracket,
+    the line's zero beside it as an extrapolation (:func:`_sigma_c_panel`); missing
+    values say why."""
     fig, axes = subplots(1, 3, figsize=(14, 4.4))
     ks = [k for k, st in data.studies.items() if st.ab.ok and st.status != "undefined"]
     why = "; ".join(f"{KT}={k:g}: {st.status_why}" for k, st in data.studies.items()
@@ -238,29 +241,38 @@ def alpha_sigma_c(data, out_dir, name="alpha_sigma_c.png"):
 
 
 def _sigma_c_panel(ax, data) -> bool:
-    """The data brackets (grey: largest sigma~ with c > 0 to smallest with c = 0; an arrow
-    where no sigma~ run lost adhesion) and alpha/beta where measured or pinned."""
-    drawn = False
+    """Per k~ the measured sigma~_c with its seed interval (red), its bracket (grey bar; a
+    triangle at the largest sigma~ run where none lost adhesion), and the line's zero alpha/beta
+    as an open diamond, an extrapolation beside them. The axis is the measurements': a zero
+    beyond it is drawn at the edge as a triangle."""
+    drawn, zeros = False, []
     for k, st in data.studies.items():
-        lo, hi = st.ab.bracket
-        if math.isfinite(lo) and math.isfinite(hi):
-            ax.plot([k, k], [lo, hi], "-", color="0.6", lw=6, alpha=0.6)
+        lo, hi = st.loss_bracket
+        if st.loss_kind == _loss.BRACKET:
+            ax.plot([k, k], [lo, hi], "-", color="0.6", lw=6, alpha=0.6,
+                    label="bracket (lo, hi]" if not drawn else None)
+            s, ci = st.sigma_loss, st.sigma_loss_ci
+            if math.isfinite(s):
+                ax.errorbar([k], [s], yerr=np.array([err(s, ci)]).T, fmt="o", capsize=3,
+                            color="C3", label=None if drawn else f"{SIG}$_c$ measured [seed CI]")
             drawn = True
-        elif math.isfinite(lo):         # no sigma~ lost adhesion: sigma~_c above the largest
+        elif st.loss_kind == _loss.NO_LOSS and math.isfinite(lo):
             ax.plot([k], [lo], "^", color="0.5", ms=7, mfc="none",
-                    label=f"{SIG}$_c$ > the largest {SIG} run" if not drawn else None)
+                    label=f"{SIG}$_c$ > the largest {SIG} run")
             drawn = True
-        if st.sigma_c_status == "measured" and math.isfinite(st.ab.sigma_c):
-            ax.errorbar([k], [st.ab.sigma_c], yerr=np.array([err(st.ab.sigma_c, st.sigma_c_ci)]).T,
-                        fmt="o", capsize=3, color="C3")
-            drawn = True
-        elif st.sigma_c_status == "pinned" and math.isfinite(st.ab.sigma_c):
-            # the bracket is the measurement: no interval of alpha/beta drawn beside it
-            ax.plot([k], [st.ab.sigma_c], "o", color="C3", mfc="none")
-            drawn = True
+        z = law_zero(st)[0]
+        if math.isfinite(z):
+            zeros.append((k, z))
     if drawn:
         ax.set_yscale("log")
-        legend(ax)
-    ax.set_title(f"{SIG}$_c$: grey the data bracket (△ above it);\n● α/β measured, ○ pinned",
-                 fontsize=9)
+        y0, y1 = ax.get_ylim()
+        for i, (k, z) in enumerate(zeros):
+            ax.plot([k], [min(max(z, y0), y1)], "D" if y0 <= z <= y1 else
+                    ("^" if z > y1 else "v"), color="C1", mfc="none", ms=7,
+                    label=None if i else "zero of the line α/β (extrapolation; "
+                    "▲▼ beyond the axis)")
+        ax.set_ylim(y0, y1)
+        legend(ax, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
+    ax.set_title(f"{SIG}$_c$ measured (red) in its bracket (grey);\n"
+                 "◇ the line's zero α/β, an extrapolation", fontsize=9)
     return drawn

@@ -16,6 +16,7 @@ from ..laws.alphabeta import model as ab_model
 from ..laws.loss import fmt_ci
 from ..laws.reading import FEW_PILLARS, LOST, RESOLVED, UNRESOLVED
 from .figures import FA, KT, SIG, err, save, say, subplots
+from .zero_cell import NO_ZERO, law_zero
 
 #: panels per row of the grid (one k~ per column: c above, the plateau below)
 COLUMNS = 4
@@ -52,18 +53,28 @@ def _c_panel(ax, st, gs):
         ax.plot([g.sigma_tilde for g in lost], [0.0] * len(lost), "X", ms=8, color=LOST_C,
                 label="adhesion lost (c = 0)", zorder=7)
     x0, x1 = ax.get_xlim()
+    # the axes are the data's: c with its intervals (the law's line and zero never set them)
+    tops = [max(g.reading.c, g.c_ci[1] if math.isfinite(g.c_ci[1]) else g.reading.c)
+            for g in res] + [g.reading.c_lower for g in ub]
+    top = max([t for t in tops if math.isfinite(t)] or [1.0])
+    ax.set_ylim(-0.06 * top, 1.12 * top)
     a = st.ab
     if a.ok:
         ls = "-" if st.status == "fitted" else ":"
-        xs = np.linspace(max(x0, 1e-9), x1, 300)
+        lo_x = min(g.sigma_tilde for g in gs)     # the line over the sigma~ run only
+        xs = np.linspace(lo_x, x1, 300)
         ax.plot(xs, ab_model(xs, a.alpha, a.beta), ls, color="C1", lw=1.3,
                 label=f"α/{SIG} − β" + ("" if st.status == "fitted" else f" ({st.status})"))
-        if math.isfinite(a.sigma_c):
-            lo, hi = st.sigma_c_ci
-            xerr = (np.array([[err(a.sigma_c, (lo, hi))[0]], [err(a.sigma_c, (lo, hi))[1]]])
-                    if math.isfinite(lo) else None)
-            ax.errorbar([a.sigma_c], [0.0], xerr=xerr, fmt="D", ms=7, color="C1", mfc="w",
-                        capsize=3, label="its zero α/β [seed CI]", zorder=6)
+    z, ci, _, _ = law_zero(st)
+    if math.isfinite(z) and x0 <= z <= x1:
+        xerr = np.array([[e] for e in err(z, ci)]) if math.isfinite(ci[0]) else None
+        ax.errorbar([z], [0.0], xerr=xerr, fmt="D", ms=7, color="C1", mfc="w", capsize=3,
+                    label="zero of the line, α/β (extrapolation)", zorder=6)
+    elif math.isfinite(z):                      # beyond the data: named at the edge
+        ax.annotate(f"α/β = {z:.3g} →" if z > x1 else f"← α/β = {z:.3g}",
+                    xy=(0.98 if z > x1 else 0.02, 0.04), xycoords="axes fraction",
+                    ha="right" if z > x1 else "left", fontsize=8, color="C1")
+    ax.set_xlim(x0, x1)
     ax.axhline(0, color="0.6", lw=0.5)
 
 
@@ -100,14 +111,13 @@ def _marks(ax, st):
 
 
 def _title(k, st) -> str:
-    head = f"{KT} = {k:g}: lost at {SIG} = {fmt_ci(st.sigma_loss, st.sigma_loss_ci)}"
-    a = st.ab
-    if not (a.ok and math.isfinite(a.sigma_c)):
-        return head + "\nα/β: no finite zero"
-    if st.status != "fitted":
-        return head + f"\nα/β = {a.sigma_c:.3g}: {st.status}, not compared"
-    verdict = {_loss.AGREE: "agrees", _loss.ABOVE: "OVERSHOOTS", _loss.BELOW: "UNDERSHOOTS"}
-    return head + f"\nα/β = {a.sigma_c:.3g}: {verdict.get(st.loss_vs_law, '—')}"
+    head = f"{KT} = {k:g}: {SIG}$_c$ = {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} (measured)"
+    z, _, rel, why = law_zero(st)
+    if not math.isfinite(z):
+        return head + f"\nline's zero: none ({NO_ZERO[why]})"
+    where = {"within": "inside", "above": "above", "below": "below"}.get(rel)
+    return head + f"\nline's zero α/β = {z:.3g}" + (f", {where} the measured span" if where
+                                                    else "")
 
 
 def _not_drawn(data) -> str:
@@ -147,11 +157,7 @@ def loss(data, out_dir, name="sigma_c_loss.png"):
         top, bot = axes[2 * (i // ncol), i % ncol], axes[2 * (i // ncol) + 1, i % ncol]
         gs = _window(st)
         xs = [g.sigma_tilde for g in gs]
-        x1 = max(xs) * 1.08
-        if st.ab.ok and math.isfinite(st.ab.sigma_c) and st.ab.sigma_c < 4 * st.loss_bracket[1]:
-            x1 = max(x1, st.ab.sigma_c * 1.1)     # the law's zero in view when it overshoots
-        # every group in view: lost ones up to the law's zero show where its c = 0 points lie
-        gs = [g for g in st.groups if min(xs) <= g.sigma_tilde <= x1]
+        x1 = max(xs) * 1.08                     # the data's range, never the law's zero
         for ax in (top, bot):
             ax.set_xlim(min(xs) - 0.08 * (x1 - min(xs)), x1)
             _marks(ax, st)
