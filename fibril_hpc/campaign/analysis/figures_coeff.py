@@ -31,10 +31,11 @@ def _ab_label(k, st) -> str:
 
 def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
     """c against sigma~: left c sigma~ against sigma~ on linear axes, where the law is the
-    straight line alpha - beta sigma~ (intercept alpha, slope -beta, zero at sigma~_c); right c
-    against sigma~ log-log. Seed intervals; lines: solid fitted within the seed scatter, dotted
-    poor fit, none where alpha and beta are undefined. Filled circles: in the fit; open: left
-    out; triangles: a rise not resolved (c is at least there); crosses: adhesion lost (c = 0)."""
+    straight line alpha - beta sigma~ (intercept alpha, slope -beta, zero at alpha/beta); right
+    c against sigma~ log-log, its sigma~ axis the groups' (lost ones as arrows). Seed intervals;
+    lines: solid fitted within the seed scatter, dotted poor fit, none where alpha and beta are
+    undefined. Filled circles: in the fit; open: left out; triangles: a rise not resolved (c is
+    at least there); crosses: adhesion lost (c = 0)."""
     fig, (a1, a2) = subplots(1, 2, figsize=(12, 6.0))
     drawn = False
     zeros = []
@@ -92,8 +93,15 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
         cpos = [g.reading.c for st in data.studies.values() for g in st.groups
                 if g.reading.state == "rise resolved" and g.reading.c > 0
                 and g.sigma_tilde > 0] + bounds
-        if cpos:                    # the cut line dives to 0 at sigma~_c: keep the data in view
+        if cpos:                    # the cut line dives to 0 at its zero: keep the data in view
             a2.set_ylim(min(cpos) / 5, max(cpos) * 3)
+        # sigma~ from the groups drawn, lost ones (their arrows) included, never from the line
+        xs = [g.sigma_tilde for st in data.studies.values() for g in st.groups
+              if g.sigma_tilde > 0 and (g.reading.state == "adhesion lost"
+                                        or math.isfinite(g.reading.c)
+                                        or math.isfinite(g.reading.c_lower))]
+        if xs:
+            a2.set_xlim(min(xs) / 1.3, max(xs) * 1.3)
         for s, col in zeros:
             a2.annotate("", (s, 0), xycoords=("data", "axes fraction"), xytext=(0, 14),
                         textcoords="offset points", arrowprops={"arrowstyle": "->", "color": col})
@@ -103,7 +111,7 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
                        ncol=2 if len(labels) > 3 else 1, frameon=False)
     a1.set_xlabel(f"roughness {SIG}")
     a2.set_xlabel(f"roughness {SIG}")
-    a1.set_ylabel(f"c · {SIG} (the law: α − β{SIG}, zero at {SIG}$_c$)")
+    a1.set_ylabel(f"c · {SIG} (the law: α − β{SIG}, zero at α/β)")
     a2.set_ylabel("adhesion coefficient c (eq. 15, slope through the origin)")
     a1.set_title("c·σ̃: solid fitted, dotted poor fit; open: not in the fit;\n"
                  "△ rise not resolved (c ≥); × adhesion lost", fontsize=9)
