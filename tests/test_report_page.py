@@ -34,14 +34,16 @@ SHARP = (0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 1.1, 1.4)
 
 
 def _studies():
-    """Four k~ of known truth: the law agreeing with a dense loss (0.1), the law overshooting a
-    sharp loss (1), beta consistent with 0 and no loss (0.01), alpha consistent with 0 (0.001:
-    the law undefined)."""
+    """Five k~ of known truth: the demo's four sigma~ from 0.1 with a loss between 1 and 3
+    (10: the window holds every sigma~, so an unclipped line would run to sigma~ -> 0), the law
+    overshooting a sharp loss (1), the law agreeing with a dense loss (0.1), beta consistent
+    with 0 and no loss (0.01), alpha consistent with 0 (0.001: the law undefined)."""
+    demo, _ = loss_campaign(1.5, (0.1, 0.3, 1.0, 3.0), 3, alpha=1.0, beta=0.33, rng=3)
     good, _ = loss_campaign(1.0, (0.1, 0.3) + DENSE, 5, rng=0)
     bad, _ = loss_campaign(1.0, SHARP, 5, alpha=4.0, beta=1.0, fade=None, rng=0, creep=3.0)
     flat, _ = law_campaign(2.0, 0.0, (0.07, 0.164, 0.384, 0.898), seeds=3, rng=1)
     const, _ = law_campaign(0.0, -1.0, (0.07, 0.164, 0.384), seeds=3, rng=2, c_sd=0.3)
-    return {1.0: bad, 0.1: good, 0.01: flat, 0.001: const}
+    return {10.0: demo, 1.0: bad, 0.1: good, 0.01: flat, 0.001: const}
 
 
 def _data(groups=None, **grid):
@@ -183,7 +185,7 @@ def test_no_axis_is_set_by_an_extrapolated_curve(data, monkeypatch):
             if x.size > 10:
                 assert x.min() >= min(g.sigma_tilde for g in gs) * 0.999
         checked += 1
-    assert checked == 2                       # the two k~ whose sigma~ run brackets a loss
+    assert checked == 3                       # the three k~ whose sigma~ run brackets a loss
     # the overshooting law's zero (beyond 2.5, the data end at 1.4) is named at the edge
     z = law_zero(data.studies[1.0])[0]
     assert z > 2.5
