@@ -87,8 +87,9 @@ def test_report_reads_the_known_plateau_c_and_alpha_beta(tmp_path):
     assert ab["loss_vs_law"] == "agree"
     page = (out / "README.md").read_text()
     assert page.splitlines()[2].startswith("**Where this brush loses adhesion, σ̃_c per k̃")
-    assert page.splitlines()[4].startswith(
-        f"k̃ = 1: {float(ab['sigma_tilde_c_measured']):.3g} [")
+    # one number and one interval: the measured sigma~_c and the sigma~ run around it
+    assert page.splitlines()[4] == (f"k̃ = 1: {float(ab['sigma_tilde_c_measured']):.3g}, lost "
+                                    "in (0.4, 3].")
     for f in FIGURES:
         assert f"]({f})" in page
     html = (out / "report.html").read_text()
