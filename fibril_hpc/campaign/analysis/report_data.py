@@ -24,11 +24,13 @@ from ..laws import fit as _fit
 from ..laws.intervals import dominant, preset_bias
 from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED, levels, pillar_floor
 from ..laws.size import DIFFERS, WITHIN, size_rows
+from ..laws.size_loss import size_losses
 from ..laws.study import N_BOOT, beta_is_zero, study
 from .loss_page import headline_lines as loss_lines
 from .loss_page import search_max
 from .seed_limits import headline_line as seeds_line
 from .seed_limits import seed_limits, seeds_auto
+from .size_loss_page import headline_line as size_loss_line
 from .variants import Variant, select
 
 #: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
@@ -86,6 +88,9 @@ class ReportData:
     #: maximum short of the target (:mod:`.seed_limits`)
     seeds_auto: dict | None = None
     seed_limits: list = field(default_factory=list)
+    #: a grid sweeping n_side over two sizes or more: where adhesion is lost, per size and in
+    #: the large-brush limit ({k~: :class:`.laws.size_loss.SizeLoss`})
+    size_loss: dict = field(default_factory=dict)
 
     def main_jobs(self, jobs) -> list:
         """The jobs the per-(k~, sigma~) readings use: those of :attr:`variant` and
@@ -183,6 +188,20 @@ def campaign_floor(meta, jobs, n_side=None) -> tuple[float, str]:
                    f"N = {n * n} pillars at phi {phi:g}; adhesion lost: a plateau of at most "
                    f"{FEW_PILLARS:g} x that ({FEW_PILLARS * f:.3g})")
     return math.nan, "no scene to tell the pillar floor"
+
+
+def campaign_phi(meta, jobs) -> float:
+    """The nominal filling ratio phi of the campaign's scene (:func:`_scene_maps`; the default
+    scene's when none gives it), NaN when it is not a number in (0, 1)."""
+    from ...inputs.scene import Scene
+
+    for d in _scene_maps(meta, jobs):
+        try:
+            phi = float(d.get("phi", Scene().phi))
+        except (TypeError, ValueError):
+            continue
+        return phi if 0 < phi < 1 else math.nan
+    return math.nan
 
 
 def grid_n_sides(meta) -> list:
@@ -310,6 +329,8 @@ def headline(d: ReportData) -> list:
         lines.append(seeds_line(d.seeds_auto, d.seed_limits))
     if d.n_sides:
         lines.append(size_headline(d))
+    if d.size_loss:
+        lines.append(size_loss_line(d.size_loss))
     if math.isfinite(d.bias):
         lines.append(f"Discretisation bias: {d.bias_note} ({100 * d.bias:+.1f} % on every "
                      "force-like number; measured on one scene, carried over as an assumption).")
@@ -355,7 +376,7 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
     # a grid sweeping the machine repeats every (k~, sigma~, preload, seed): the readings take
     # the stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
     jobs = [j for j in read if not kms or float(j.get("k_machine", math.inf)) == kms[0]]
-    n_sides, n_read, rows = [], None, []
+    n_sides, n_read, rows, sloss = [], None, [], {}
     floor, floor_note = campaign_floor(c.meta, done)
     if c.n_side_swept:
         # every brush size read as one campaign; the per-(k~, sigma~) readings at the largest
@@ -368,6 +389,9 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
         if by_n:
             n_read = max(by_n)
             rows = size_rows(size_studies, max(n_sides))
+        phi = campaign_phi(c.meta, done)
+        if len(by_n) >= 2 and math.isfinite(phi):
+            sloss = size_losses(by_n, phi, n_boot=n_boot)
         points = by_n.get(n_read, {})
         studies = size_studies.get(n_read, {})
         if n_read is not None:
@@ -384,5 +408,6 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
                    n_boot=n_boot, n_sides=n_sides, n_side=n_read, size=rows, variant=variant,
                    floor=floor, floor_note=floor_note, seeds_auto=seeds_auto(c.meta))
     d.seed_limits = seed_limits(points, floor, d.seeds_auto)
+    d.size_loss = sloss
     d.headline = headline(d)
     return d
