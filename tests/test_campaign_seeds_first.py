@@ -101,3 +101,20 @@ def test_an_old_search_file_still_resumes(tmp_path):
     p = tmp_path / "first5.yaml"
     p.write_text(yaml.safe_dump(g))
     assert main(["run", str(p), "--output", str(out), "--dry-run"]) == 2
+
+
+def test_a_group_grows_from_first_upwards():
+    """A group whose three seeds scatter too much grows to the count the widths predict, with
+    the next seeds after them (13, 14, ...), never seeds below ``first``."""
+    with open(os.path.join(DATA, "search_v0.yaml")) as fh:
+        g = yaml.safe_load(fh)
+    g["seeds"] = {"auto": {"start": 3, "max": 8, "width": 0.05, "first": 10}}
+    spec = spec_from_dict(g)
+    line, sigma = (1.0,), 0.1
+    done = {}
+    for seed, top in zip((10, 11, 12), (0.3, 0.6, 0.9)):     # plateaus scattered by +-50 %
+        done[(1.0, sigma, seed)] = {0.25: (0.25, top * 0.98), 4.0: (4.0, top)}
+    grp = search.replay_group(spec, line, sigma, done, {})
+    assert grp.seeds[:3] == [10, 11, 12] and len(grp.seeds) > 3
+    assert grp.seeds == list(range(10, 10 + len(grp.seeds)))
+    assert {p[2] for p, _ in grp.todo} == set(range(13, 10 + len(grp.seeds)))
