@@ -117,6 +117,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHIPPED = {"demo": "campaigns/demo.yaml", "paper": "campaigns/paper.yaml",
            "finite_size": "campaigns/finite_size.yaml",
            "critical_roughness": "campaigns/critical_roughness.yaml",
+           "critical_roughness_seeds10": "campaigns/critical_roughness_seeds10.yaml",
            "campaign.sbatch": "slurm/campaign.sbatch", "array.sbatch": "slurm/array.sbatch",
            "chain.sh": "slurm/chain.sh"}
 

@@ -23,6 +23,7 @@ from ..laws.intervals import dominant
 from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED
 from ..laws.size import DIFFERS, WITHIN
 from .loss_page import measured_span, search_max, span_text
+from .size_loss_page import headline_line as size_loss_line
 from .zero_cell import law_zero
 
 #: the headline's most lines (issue 34: a page a referee reads in two minutes)
@@ -132,9 +133,14 @@ def headline(d) -> list:
              f"run around it, widened to its seed interval), of {of_what(d)}:",
              "; ".join(_loss_value(k, st, smax) for k, st in d.studies.items()) + ".",
              _law_line(d)]
+    if getattr(d, "size_loss", None):
+        # a grid sweeping n_side: the large-brush (per-area) loss beside each size's crossing
+        lines.insert(2, size_loss_line(d.size_loss))
     cautions = _cautions(d)
     if cautions:
         lines.append("Before quoting: " + "; ".join(cautions) + ".")
+    if len(lines) > MAX_LINES:
+        lines[MAX_LINES - 1:] = [" ".join(lines[MAX_LINES - 1:])]
     return lines
 
 

@@ -16,7 +16,8 @@ import os
 import time
 
 from ...io.files import write_text_atomically
-from . import figures, figures_coeff, figures_loss, figures_size, page, tables
+from . import (figures, figures_coeff, figures_loss, figures_size, figures_size_loss, page,
+               size_loss_page, tables)
 from ..laws.study import N_BOOT
 from .data import load_campaign
 from .report_data import build
@@ -86,6 +87,11 @@ def write_report(path: str, out_dir: str, n_boot: int = N_BOOT,
                         "against the largest" + (f" ({d.variant.label})" if d.variant else ""),
                         figures_size.plateau_vs_n_side(d, out_dir)))
         tabs.insert(0, tables.finite_size(d))
+    if d.size_loss:                    # where adhesion is lost, per size and per area
+        figs.insert(0, ("Where adhesion is lost across brush sizes: the plateau per n_side, "
+                        "its N → ∞ extrapolation P∞ and the thresholds",
+                        figures_size_loss.loss_across_sizes(d, out_dir)))
+        tabs[:0] = [size_loss_page.table(d), size_loss_page.extrapolation_table(d)]
     files = [p for _, p in figs]
     for t in tabs:
         p = os.path.join(out_dir, f"{t.name}.csv")

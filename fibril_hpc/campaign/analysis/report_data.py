@@ -24,6 +24,7 @@ from ..laws import fit as _fit
 from ..laws.intervals import preset_bias
 from ..laws.reading import FEW_PILLARS, levels, pillar_floor
 from ..laws.size import size_rows
+from ..laws.size_loss import size_losses
 from ..laws.study import N_BOOT, study
 from .headline import headline, notes
 from .seed_limits import seed_limits, seeds_auto
@@ -79,6 +80,9 @@ class ReportData:
     brush: tuple = (None, math.nan, "")
     #: every other line the page says once, below the tables (:func:`.headline.notes`)
     notes: list = field(default_factory=list)
+    #: a grid sweeping n_side over two sizes or more: where adhesion is lost, per size and in
+    #: the large-brush limit ({k~: :class:`.laws.size_loss.SizeLoss`})
+    size_loss: dict = field(default_factory=dict)
 
     def main_jobs(self, jobs) -> list:
         """The jobs the per-(k~, sigma~) readings use: those of :attr:`variant` and
@@ -186,6 +190,20 @@ def campaign_floor(meta, jobs, n_side=None) -> tuple[float, str]:
                f"{FEW_PILLARS:g} x that ({FEW_PILLARS * f:.3g})")
 
 
+def campaign_phi(meta, jobs) -> float:
+    """The nominal filling ratio phi of the campaign's scene (:func:`_scene_maps`; the default
+    scene's when none gives it), NaN when it is not a number in (0, 1)."""
+    from ...inputs.scene import Scene
+
+    for d in _scene_maps(meta, jobs):
+        try:
+            phi = float(d.get("phi", Scene().phi))
+        except (TypeError, ValueError):
+            continue
+        return phi if 0 < phi < 1 else math.nan
+    return math.nan
+
+
 def grid_n_sides(meta) -> list:
     """The ``sweep.n_side`` values of the file's own grid (``campaign_yaml``), or []."""
     import yaml
@@ -237,7 +255,7 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
     # a grid sweeping the machine repeats every (k~, sigma~, preload, seed): the readings take
     # the stiffest machine's jobs (F~_A does not depend on it); the machine table shows them all
     jobs = [j for j in read if not kms or float(j.get("k_machine", math.inf)) == kms[0]]
-    n_sides, n_read, rows = [], None, []
+    n_sides, n_read, rows, sloss = [], None, [], {}
     floor, floor_note = campaign_floor(c.meta, done)
     if c.n_side_swept:
         # every brush size read as one campaign; the per-(k~, sigma~) readings at the largest
@@ -250,6 +268,9 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
         if by_n:
             n_read = max(by_n)
             rows = size_rows(size_studies, max(n_sides))
+        phi = campaign_phi(c.meta, done)
+        if len(by_n) >= 2 and math.isfinite(phi):
+            sloss = size_losses(by_n, phi, n_boot=n_boot)
         points = by_n.get(n_read, {})
         studies = size_studies.get(n_read, {})
         if n_read is not None:
@@ -267,5 +288,6 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
                    floor=floor, floor_note=floor_note, seeds_auto=seeds_auto(c.meta))
     d.seed_limits = seed_limits(points, floor, d.seeds_auto)
     d.brush = campaign_brush(c.meta, done, n_read)
+    d.size_loss = sloss
     d.headline, d.notes = headline(d), notes(d)
     return d

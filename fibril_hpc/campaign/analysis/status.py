@@ -291,7 +291,8 @@ def search_plan_line(spec) -> str:
            f"most {a.rounds} rounds)" if a is not None
            else f"sigma~ {', '.join(f'{x:g}' for x in spec.sigma_tilde)}")
     seeds = (f"seeds auto {sa.start} to {sa.max} per group (until plateau and c are known "
-             f"within {sa.width:g} of their value)" if sa is not None
+             f"within {sa.width:g} of their value; seeds {sa.first} .. {sa.first + sa.max - 1})"
+             if sa is not None
              else f"{len(spec.seeds)} seeds")
     pre = ("F_P auto" if spec.auto is not None
            else f"{spec.preload_kind} {', '.join(f'{x:g}' for x in spec.preloads)}")

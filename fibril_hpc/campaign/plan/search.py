@@ -22,10 +22,12 @@ decide the next round (:func:`next_sigmas`):
 The line is finished when a round adds nothing, or after ``rounds`` rounds. New sigma~ are
 rounded to three significant digits (a bracket narrower than that cannot be split).
 
-**A group** (k~, sigma~) runs seeds 0 .. ``start``-1; with ``seeds: auto``, when they are
-finished, :func:`.laws.precision.seeds_needed` says whether its plateau and c are known within
-``width`` (and a lost group's state with certainty) or how many seeds would do; the group grows
-to that count (seeds 0 .. n-1, at most ``max``) and is read again. With ``F_P: auto`` every path
+**A group** (k~, sigma~) runs seeds ``first`` .. ``first`` + ``start`` - 1 (``first`` 0 unless
+given); with ``seeds: auto``, when they are finished, :func:`.laws.precision.seeds_needed` says
+whether its plateau and c are known within ``width`` (and a lost group's state with certainty)
+or how many seeds would do; the group grows to that count (seeds ``first`` .. ``first`` + n - 1,
+at most ``max`` of them) and is read again. Two runs of one grid with ``first`` 0 and ``first``
+>= the first run's ``max`` use disjoint seeds (independent brushes). With ``F_P: auto`` every path
 places its own preloads; before a group is read, each seed also runs the preloads any other seed
 of the group reached, so that every level holds every seed (a level some seeds lack is *thin*:
 the report shows it but does not read it, and a plateau round run by a few seeds would leave the
@@ -53,6 +55,8 @@ from ..laws.reading import LOST, RESOLVED, UNRESOLVED, pillar_floor
 from .auto import path_todo
 
 AUTO_WORD = "auto"
+#: the largest first seed of ``seeds: auto`` (its seeds run to first + max - 1)
+FIRST_MAX = 10**9
 
 
 @dataclass(frozen=True)
@@ -76,15 +80,26 @@ class AutoSigma:
 @dataclass(frozen=True)
 class AutoSeeds:
     """Settings of ``seeds: auto``: ``start`` seeds per group, more (at most ``max``) until the
-    seed intervals of plateau and c are within ``width`` of their value (full width)."""
+    seed intervals of plateau and c are within ``width`` of their value (full width); the
+    seeds are ``first``, ``first`` + 1, ... (``first`` 0 by default: a disjoint seed set of the
+    same grid starts at ``first`` = the other set's ``max``)."""
 
     start: int = 3
     max: int = 10
     width: float = 0.2
+    first: int = 0
 
     def to_dict(self) -> dict:
-        """The settings as a plain mapping (as written in the resolved grid)."""
-        return asdict(self)
+        """The settings as a plain mapping (as written in the resolved grid); ``first`` only
+        when it is not 0, so that a grid written before it had ``first`` keeps its hash."""
+        d = asdict(self)
+        if not self.first:
+            d.pop("first")
+        return d
+
+    def seeds(self, n: int) -> list:
+        """The first ``n`` seeds of a group."""
+        return list(range(self.first, self.first + n))
 
 
 def _settings(field_name: str, value, cls):
@@ -149,7 +164,8 @@ def parse_seeds(value) -> AutoSeeds | None:
     mx = _num("seeds.auto.max", d["max"], 2, 1000, True)
     start = _num("seeds.auto.start", d["start"], 2, mx, True)
     return AutoSeeds(start=start, max=mx,
-                     width=_num("seeds.auto.width", d["width"], 0.001, 10.0))
+                     width=_num("seeds.auto.width", d["width"], 0.001, 10.0),
+                     first=_num("seeds.auto.first", d.get("first", 0), 0, FIRST_MAX, True))
 
 
 def settings_hash(*parts) -> str:
@@ -310,7 +326,7 @@ def replay_group(spec, line, sigma, done, failed, retry_failed=False, cache=None
     group's reading depends only on its records)."""
     k, extra = line[0], tuple(line[1:])
     sa = spec.seeds_auto
-    seeds = list(range(sa.start)) if sa is not None else list(spec.seeds)
+    seeds = sa.seeds(sa.start) if sa is not None else list(spec.seeds)
     n_side = extra[0] if extra else spec.base.n_side
     floor = pillar_floor(n_side, spec.base.phi)
     width = sa.width if sa is not None else 0.2
@@ -336,7 +352,7 @@ def replay_group(spec, line, sigma, done, failed, retry_failed=False, cache=None
         want = seeds_needed(prec, sa.width, sa.max)
         if want <= len(seeds):
             return Group(sigma, seeds, [], prec.state, prec)
-        seeds = list(range(want))
+        seeds = sa.seeds(want)
 
 
 def replay_line(spec, line, done, failed, retry_failed=False, cache=None) -> Line:

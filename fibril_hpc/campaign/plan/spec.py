@@ -192,7 +192,7 @@ class CampaignSpec:
             return False
         a, sa = self.sigma_auto, self.seeds_auto
         s_ok = (a.min <= s <= a.max) if a is not None else s in self.sigma_tilde
-        seed_ok = (0 <= seed < sa.max) if sa is not None else seed in self.seeds
+        seed_ok = (sa.first <= seed < sa.first + sa.max) if sa is not None else seed in self.seeds
         if not (s_ok and seed_ok):
             return False
         if self.only_lines is not None and (k,) + tuple(path[3:]) not in self.only_lines:
@@ -359,7 +359,8 @@ def spec_from_dict(data, *, source: str = "", base_dir: str = ".") -> CampaignSp
                               "{auto: {settings}} (docs/campaigns.md, 'F_P: auto')") from None
     seeds_v = data.get("seeds", 1)
     seeds_auto = parse_seeds(seeds_v)
-    seeds = tuple(range(seeds_auto.max)) if seeds_auto is not None else seed_values(seeds_v)
+    seeds = (tuple(seeds_auto.seeds(seeds_auto.max)) if seeds_auto is not None
+             else seed_values(seeds_v))
     group = data.get("group_preloads", True)
     if not isinstance(group, bool):
         raise ConfigError("group_preloads", group, "true or false")

@@ -29,7 +29,7 @@ def axis_values(name, v):
 
 
 SEEDS_ALLOWED = ("a count in [1, 100000], a list of distinct integers >= 0, auto or "
-                 "{auto: {start, max, width}}")
+                 "{auto: {start, max, width, first}}")
 
 
 def seed_values(v) -> tuple:

@@ -1,0 +1,113 @@
+"""The words and tables of where adhesion is lost across brush sizes (a grid sweeping
+``n_side``): the numbers and states of :mod:`..laws.size_loss`, written for the page.
+
+Two tables: ``size_loss`` (per k~ and n_side, then one row per k~ for the large-brush limit,
+n_side = inf) and ``size_extrapolation`` (per k~ and sigma~: the plateau extrapolated in N).
+Every column is defined in docs/report.md ("Where adhesion is lost, across sizes").
+"""
+
+from __future__ import annotations
+
+
+from ..laws import size_loss as sl
+from ..laws.reading import FEW_PILLARS
+from .tables import Table, fmt, num, val_ci
+
+
+def _ci(ci) -> list:
+    return [num(ci[0]), num(ci[1])]
+
+
+def _sigma_cell(kind: str, sigma: float, ci: tuple, bracket: tuple) -> str:
+    if kind == sl.BRACKET:
+        return val_ci(sigma, ci, ".3g")
+    if kind == sl.NO_LOSS:
+        return f"> {fmt(bracket[0], '.3g')} (not reached)"
+    if kind == sl.ALL_LOST:
+        return f"< {fmt(bracket[1], '.3g')} (below every σ̃ run)"
+    return "—"
+
+
+def table(d) -> Table:
+    """Per k~ and n_side: the few-pillar crossing (the report's measured sigma~_c of that size)
+    and the per-area crossing, each in sigma~ and in the pillar's own sigma / d_c1; then per
+    k~ the large-brush row (n_side = inf): sigma~_inf, sigma~_0 and the measured exponent p."""
+    thr = next(iter(d.size_loss.values())).area_threshold if d.size_loss else sl.AREA_THRESHOLD
+    t = Table("size_loss", "Where adhesion is lost, per brush size and for a large brush "
+              f"(per-area threshold F̃_A = {thr:g})")
+    t.csv_rows.append([
+        "k_tilde", "n_side", "n_pillars", "n_seeds", "k_pillar", "few_threshold", "sigma_few",
+        "sigma_few_lo", "sigma_few_hi", "few_kind", "pillar_sigma_few", "area_threshold",
+        "sigma_area", "sigma_area_lo", "sigma_area_hi", "area_kind", "area_below_floor",
+        "pillar_sigma_area", "area_trend", "sigma_zero", "sigma_zero_lo", "sigma_zero_hi",
+        "zero_kind", "p", "p_lo", "p_hi", "p_state"])
+    t.page_rows.append(["k̃", "n_side", "k/(E* D)", f"σ̃ at {FEW_PILLARS:g} pillars [CI]",
+                        "σ/d_c1 there", f"σ̃ at F̃_A = {thr:g} [CI]", "σ/d_c1 there", "note"])
+    for k, s in d.size_loss.items():
+        for few, area in zip(s.few, s.area):
+            n = few.n_side
+            ps_few = sl.pillar_sigma(few.sigma, n, s.phi)
+            ps_area = sl.pillar_sigma(area.sigma, n, s.phi)
+            kp = sl.pillar_k(k, n, s.phi)
+            t.csv_rows.append([
+                repr(k), str(n), str(n * n), str(s.n_seeds.get(n, 0)), num(kp),
+                num(few.threshold), num(few.sigma), *_ci(few.ci), few.kind, num(ps_few),
+                num(area.threshold), num(area.sigma), *_ci(area.ci), area.kind,
+                str(area.below_floor).lower(), num(ps_area), "", "", "", "", "", "", "", "", ""])
+            note = (f"the per-area threshold is within {FEW_PILLARS:g} pillars' pull-off here"
+                    if area.below_floor else "")
+            t.page_rows.append([f"{k:g}", str(n), fmt(kp, ".3g"),
+                                _sigma_cell(few.kind, few.sigma, few.ci, few.bracket),
+                                fmt(ps_few, ".3g"),
+                                _sigma_cell(area.kind, area.sigma, area.ci, area.bracket),
+                                fmt(ps_area, ".3g"), note])
+        t.csv_rows.append([
+            repr(k), "inf", "inf", str(min(s.n_seeds.values(), default=0)), "inf", "", "", "",
+            "", "", "", num(s.area_threshold), num(s.sigma_inf), *_ci(s.sigma_inf_ci),
+            s.sigma_inf_kind, "", "inf", s.area_trend, num(s.sigma_zero), *_ci(s.sigma_zero_ci),
+            s.sigma_zero_kind, num(s.p), *_ci(s.p_ci), s.p_state])
+        zero = _sigma_cell(s.sigma_zero_kind, s.sigma_zero, s.sigma_zero_ci,
+                           s.sigma_zero_bracket)
+        t.page_rows.append([
+            f"{k:g}", "∞ (P∞)", "∞", "—", "∞",
+            _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket), "∞",
+            f"P∞ = 0 at σ̃ = {zero}; per-area crossing over the two largest sizes: "
+            f"{s.area_trend}; p = {val_ci(s.p, s.p_ci, '.3g')} ({s.p_state})"])
+    return t
+
+
+def extrapolation_table(d) -> Table:
+    """Per k~ and sigma~ run at every size: P_inf, A of P(N) = P_inf + A N^(-3/4), chi^2 and
+    the state of P_inf."""
+    t = Table("size_extrapolation", "The plateau extrapolated in the number of pillars N: "
+              "P(N) = P∞ + A N^(−3/4)")
+    t.csv_rows.append(["k_tilde", "sigma_tilde", "n_sides", "P_inf", "P_inf_lo", "P_inf_hi",
+                       "A", "chi2", "dof", "state"])
+    t.page_rows.append(["k̃", "σ̃", "sizes", "P∞ [CI]", "A", "χ² (dof)", "P∞"])
+    for k, s in d.size_loss.items():
+        for e in s.extrapolations:
+            t.csv_rows.append([repr(k), repr(e.sigma_tilde), " ".join(map(str, e.n_sides)),
+                               num(e.p_inf), *_ci(e.p_inf_ci), num(e.amplitude), num(e.chi2),
+                               str(e.dof), e.state])
+            t.page_rows.append([f"{k:g}", f"{e.sigma_tilde:g}", ", ".join(map(str, e.n_sides)),
+                                val_ci(e.p_inf, e.p_inf_ci, ".3g"), fmt(e.amplitude, ".3g"),
+                                f"{fmt(e.chi2, '.2g')} ({e.dof})",
+                                f"**{e.state}**" if e.state == sl.GONE else e.state])
+    return t
+
+
+def headline_line(size_loss: dict) -> str:
+    """One line: per k~, where adhesion per area is lost (sigma~_inf) beside the few-pillar
+    crossing of each size."""
+    parts = []
+    for k, s in size_loss.items():
+        few = ", ".join(f"{c.n_side}: {_sigma_cell(c.kind, c.sigma, c.ci, c.bracket)}"
+                        for c in s.few)
+        inf = _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket)
+        parts.append(f"k̃ = {k:g}: per area (F̃_A = {s.area_threshold:g} in the N → ∞ "
+                     f"extrapolation) σ̃ = {inf}; at {FEW_PILLARS:g} pillars, by n_side, {few}")
+    return ("Loss across sizes (sizes " + ", ".join(
+        str(n) for n in next(iter(size_loss.values())).n_sides) + "): " + "; ".join(parts) + ".")
+
+
+__all__ = ["table", "extrapolation_table", "headline_line"]

@@ -1,0 +1,183 @@
+"""Where adhesion is lost across brush sizes (:mod:`fibril_hpc.campaign.laws.size_loss`),
+against synthetic brushes of known truth (tests/size_truth.py): a plateau that fades with
+sigma~ to a known P_inf(sigma~) plus a finite-size term of a few pillars, A N^(-3/4), with the
+seed scatter of real 8-16 brushes (6 % on P_inf, 20 % on the few pillars) and four seeds, each
+seed one height pattern at every sigma~ of its size."""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, os.path.dirname(__file__))
+import size_truth as st  # noqa: E402
+
+from fibril_hpc.campaign.laws import size_loss as sl  # noqa: E402
+from fibril_hpc.geometry.scaling import Scaling  # noqa: E402
+
+SIZES = (8, 12, 16)
+THR = sl.AREA_THRESHOLD
+TRUE_INF = st.sigma_at(THR)          # 0.461: where P_inf falls to the per-area threshold
+
+
+@pytest.fixture(scope="module")
+def draws():
+    return [sl.size_loss(1.0, st.brushes(SIZES, pillars=2.5, rng=r), st.PHI, n_boot=80,
+                         rng_seed=r) for r in range(4)]
+
+
+def test_the_intensive_loss_is_recovered_with_its_interval(draws):
+    cover = 0
+    for s in draws:
+        assert s.sigma_inf_kind == sl.BRACKET
+        assert abs(s.sigma_inf - TRUE_INF) < 0.03, s.sigma_inf
+        lo, hi = s.sigma_inf_ci
+        assert lo < s.sigma_inf < hi and hi - lo < 0.1
+        cover += lo <= TRUE_INF <= hi
+    assert cover >= 3
+
+
+def test_p_inf_is_recovered_at_every_sigma(draws):
+    hits = total = 0
+    for s in draws:
+        for e in s.extrapolations:
+            truth = st.p_inf(e.sigma_tilde)
+            assert abs(e.p_inf - truth) < 0.06, (e.sigma_tilde, e.p_inf, truth)
+            total += 1
+            hits += e.p_inf_ci[0] <= truth <= e.p_inf_ci[1]
+            # held where the truth is clearly above 0, gone where it is 0
+            if truth > 0.05:
+                assert e.state == sl.HOLDS
+            if truth == 0.0:
+                assert e.state == sl.GONE
+    assert hits >= 0.8 * total
+
+
+def test_the_few_pillar_crossing_is_not_the_intensive_loss(draws):
+    """Beyond sigma_inf every size still holds its few tallest pillars (2.5 pillars' pull-off,
+    under the 3-pillar threshold only there): the 3-pillar crossing of every size lies above
+    the per-area loss, while the per-area crossing approaches it as N grows."""
+    for s in draws:
+        few = {c.n_side: c for c in s.few}
+        area = {c.n_side: c for c in s.area}
+        for n in SIZES:
+            assert few[n].kind == sl.BRACKET and few[n].sigma > TRUE_INF + 0.05
+            assert not area[n].below_floor
+        assert abs(area[16].sigma - TRUE_INF) < abs(area[8].sigma - TRUE_INF)
+        assert area[16].sigma > s.sigma_inf          # a finite brush holds longer
+        lo, hi = area[16].ci
+        assert lo < area[16].sigma < hi
+
+
+def test_no_loss_in_the_range_run_is_said_so():
+    s = sl.size_loss(1.0, st.brushes(SIZES, sigmas=(0.1, 0.2, 0.3), rng=1), st.PHI, n_boot=20)
+    assert s.sigma_inf_kind == sl.NO_LOSS and math.isnan(s.sigma_inf)
+    assert s.sigma_inf_bracket == (0.3, math.inf)
+    assert all(c.kind == sl.NO_LOSS for c in s.few)
+
+
+@pytest.mark.parametrize("exponent, state", [(0.75, sl.CONSISTENT), (0.35, sl.DIFFERS)])
+def test_the_exponent_is_measured_over_sizes_far_apart(exponent, state):
+    """Four sizes a factor 8 apart and little scatter: p is measured, 3/4 found or refused."""
+    s = sl.size_loss(1.0, st.brushes((8, 16, 32, 64), sigmas=(0.1, 0.2, 0.3, 0.4), sd_inf=0.01,
+                                     sd_a=0.02, exponent=exponent, pillars=6.0, rng=2),
+                     st.PHI, n_boot=40)
+    assert s.p_state == state, (s.p, s.p_ci)
+    assert abs(s.p - exponent) < 0.15
+    assert s.p_sigmas == (0.1, 0.2, 0.3, 0.4)
+
+
+@pytest.mark.parametrize("p, ci, state", [
+    (0.8, (0.6, 1.0), sl.CONSISTENT), (0.75, (0.75, 0.9), sl.CONSISTENT),
+    (0.4, (0.3, 0.5), sl.DIFFERS), (1.2, (0.9, 1.5), sl.DIFFERS),
+    (0.9, (0.3, 1.5), sl.NOT_DETERMINED), (1.0, (-0.2, 1.4), sl.NOT_DETERMINED),
+    (3.0, (1.2, 3.0), sl.NOT_DETERMINED), (0.9, (0.05, 1.0), sl.NOT_DETERMINED),
+    (math.nan, (0.5, 1.0), sl.NOT_FITTED), (0.8, (0.6, math.inf), sl.NOT_FITTED)])
+def test_the_exponent_state(p, ci, state):
+    assert sl.exponent_state(p, ci) == state
+
+
+def test_p_is_measured_on_the_groups_that_hold_adhesion_only(draws):
+    """Lost groups (a few pillars: N^(-3/4) by construction) stay out of the exponent."""
+    for s in draws:
+        assert s.p_sigmas == (0.2, 0.3, 0.4, 0.5)
+
+
+def test_the_seeds_of_one_size_are_resampled_alike_at_every_sigma(draws):
+    """Beyond sigma_inf the synthetic groups of one size are the same points at every sigma~:
+    paired replicates give them the same P_inf in every replicate, so the same interval."""
+    for s in draws:
+        ci = {e.sigma_tilde: e.p_inf_ci for e in s.extrapolations}
+        assert ci[0.6] == ci[0.8] == ci[1.0]
+
+
+def test_two_seeds_widen_the_interval_for_the_small_sample():
+    """Two seeds per size: a bootstrap of two seeds has three distinct resamples and a
+    percentile interval far too narrow; widened by t_1 (x 9.2) it holds the truth."""
+    for r in range(3):
+        s = sl.size_loss(1.0, st.brushes(SIZES, pillars=2.5, seeds=2, rng=10 + r), st.PHI,
+                         n_boot=60, rng_seed=r)
+        lo, hi = s.sigma_inf_ci
+        assert lo <= TRUE_INF <= hi and hi - lo > 0.015, s.sigma_inf_ci
+
+
+def test_three_close_sizes_do_not_determine_the_exponent(draws):
+    assert all(s.p_state in (sl.NOT_DETERMINED, sl.CONSISTENT) for s in draws)
+    assert sum(s.p_state == sl.NOT_DETERMINED for s in draws) >= 2
+
+
+def test_two_sizes_give_crossings_but_no_extrapolation():
+    s = sl.size_loss(1.0, {n: g for n, g in st.brushes((8, 16), rng=3).items()}, st.PHI,
+                     n_boot=20)
+    assert len(s.few) == 2 and not s.extrapolations
+    assert s.sigma_inf_kind == sl.NOT_READ and s.p_state == sl.NOT_FITTED
+
+
+def test_curve_crossing_is_exact_on_a_power_law_and_bounded():
+    sig = [0.2, 0.4, 0.8]
+    p = [0.5 * (x / 0.2) ** -2 for x in sig]           # 0.5, 0.125, 0.03125
+    s, br = sl.curve_crossing(sig, p, 0.05)
+    assert br == (0.4, 0.8) and s == pytest.approx(0.2 * (0.5 / 0.05) ** 0.5)
+    assert sl.curve_crossing(sig, p, 0.01, clip=False)[0] == math.inf
+    assert sl.curve_crossing(sig, p, 0.9, clip=False)[0] == 0.0
+    assert math.isnan(sl.curve_crossing(sig, p, 0.01)[0])
+    s, br = sl.level_crossing([0.1, 0.2, 0.3], [0.4, 0.1, -0.2], 0.0)
+    assert br == (0.2, 0.3) and s == pytest.approx(0.2 + 0.1 / 3)
+
+
+def test_pillar_variables_follow_from_the_scaling():
+    """sigma / d_c1 and k / (E* D) from :class:`Scaling` of the brush and of one pillar (its own
+    compact punch, phi = 1, area phi L^2 / N)."""
+    phi, n, dgamma = 0.16, 12, 0.7
+    brush = Scaling(phi, dgamma)
+    one = Scaling(1.0, dgamma, area=phi / n ** 2)
+    sigma_t, k_t = 0.4, 0.01
+    assert sl.pillar_sigma(sigma_t, n, phi) == pytest.approx(sigma_t * brush.d_c / one.d_c)
+    D = 2.0 * math.sqrt(phi / n ** 2 / math.pi)
+    assert sl.pillar_k(k_t, n, phi) == pytest.approx(brush.k(k_t) / D)
+
+
+def test_the_page_says_what_the_numbers_say(draws, tmp_path):
+    from fibril_hpc.campaign.analysis import figures_size_loss, size_loss_page
+
+    d = SimpleNamespace(size_loss={1.0: draws[0]})
+    t = size_loss_page.table(d)
+    head = t.csv_rows[0]
+    assert len(t.csv_rows) == 1 + len(SIZES) + 1 and all(len(r) == len(head) for r in t.csv_rows)
+    inf_row = dict(zip(head, t.csv_rows[-1]))
+    assert inf_row["n_side"] == "inf" and float(inf_row["sigma_area"]) == draws[0].sigma_inf
+    row16 = dict(zip(head, t.csv_rows[3]))
+    assert float(row16["pillar_sigma_few"]) == pytest.approx(
+        draws[0].few[2].sigma * (st.PHI * 256) ** 0.25)
+    e = size_loss_page.extrapolation_table(d)
+    assert len(e.csv_rows) == 1 + len(draws[0].extrapolations)
+    line = size_loss_page.headline_line(d.size_loss)
+    assert f"{draws[0].sigma_inf:.3g}" in line and "8, 12, 16" in line
+    png = figures_size_loss.loss_across_sizes(d, str(tmp_path))
+    assert os.path.getsize(png) > 10_000
+    assert np.isfinite(draws[0].plateau[8]).all()
