@@ -84,6 +84,12 @@ def main(argv=None) -> int:
     print("\n".join(lines))
     print("dir loc/glob: directions kept locally / refused by the bound (+ those solved "
           "globally without a local attempt: first contact, too large a change, a machine)")
+    for r in rows:          # one set of columns: the reference confirms every event globally
+        r.setdefault("confirmed_local", 0)
+        r.setdefault("confirmed_global", r["events"])
+        for key in ("certificates_refused", "directions_local", "directions_refused"):
+            r.setdefault(key, 0)
+        r.setdefault("force_bound_tilde", float("nan"))
     write_results(a.out, "confirm", rows, {
         "meta": {"command": " ".join(["confirm.py"] + (argv if argv is not None
                                                        else sys.argv[1:]))},

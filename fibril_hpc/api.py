@@ -250,7 +250,7 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
                          certificates_refused=cert.refused,
                          directions_local=cert.direction_local,
                          directions_refused=cert.direction_refused,
-                         force_bound_tilde=(cert.worst + cert.direction_worst) / sc.F_c)
+                         force_bound_tilde=float((cert.worst + cert.direction_worst) / sc.F_c))
     if status == STATUS_FAILED:
         log.warning("simulation failed: %s", message)
     return res

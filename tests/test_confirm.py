@@ -226,3 +226,16 @@ def test_residual_kernel_is_what_the_bound_reads():
     rr = kern.residual(b, K @ x, x, att, g.starts, model.solver.alpha, r)
     np.testing.assert_allclose(r[s], b[s] - A @ x[s], rtol=1e-12, atol=1e-12)
     assert rr == pytest.approx(float(r @ r))
+
+
+def test_counters_and_bound_reach_the_result_file(tmp_path):
+    from fibril_hpc.io.store import read_result_file, write_result_file
+
+    res = run("local", n_side=4, elements_per_diameter=5, k_tilde=0.01, sigma_tilde=0.5, seed=1)
+    path = str(tmp_path / "r.h5")
+    write_result_file(path, res)
+    back = read_result_file(path)
+    assert back.scene.solver.confirm == "local"
+    for key in ("confirmed_local", "confirmed_global", "directions_local", "force_bound_tilde"):
+        assert back.stats[key] == res.stats[key]
+    assert res.summary()["confirmed_local"] == res.stats["confirmed_local"]
