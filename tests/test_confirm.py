@@ -239,3 +239,17 @@ def test_counters_and_bound_reach_the_result_file(tmp_path):
     for key in ("confirmed_local", "confirmed_global", "directions_local", "force_bound_tilde"):
         assert back.stats[key] == res.stats[key]
     assert res.summary()["confirmed_local"] == res.stats["confirmed_local"]
+
+
+def test_fibril_run_reports_the_confirmations(tmp_path, capsys):
+    from fibril_hpc.cli.run import main
+
+    scene = tmp_path / "s.yaml"
+    scene.write_text("n_side: 4\nelements_per_diameter: 5\nk_tilde: 0.01\nsigma_tilde: 0.5\n"
+                     "F_P: [4.0]\nsolver: {confirm: local}\n")
+    assert main([str(scene)]) == 0
+    out = capsys.readouterr().out
+    assert "confirmed locally" in out and "force bound" in out
+    scene.write_text("n_side: 4\nsolver: {confirm: sometimes}\n")
+    assert main([str(scene)]) == 2
+    assert "solver.confirm" in capsys.readouterr().err
