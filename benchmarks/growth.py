@@ -45,6 +45,9 @@ def child(args: dict) -> dict:
     solver = {"fft_threads": args["threads"]}
     if args["preconditioner"] != "auto":
         solver["preconditioner"] = args["preconditioner"]
+    for key in ("confirm", "confirm_tol"):     # benchmarks/confirm.py
+        if args.get(key) is not None:
+            solver[key] = args[key]
     scene = Scene(n_side=args["n_side"], k_tilde=args["k"], sigma_tilde=args["sigma"],
                   F_P=(args["F_P"],), seed=args["seed"], preset=args["preset"], solver=solver)
     t0, w0 = time.process_time(), time.perf_counter()
@@ -58,7 +61,11 @@ def child(args: dict) -> dict:
            "pairs_per_event": st["fft_pairs"] / max(st["events"], 1), "cpu_s": cpu,
            "wall_s": wall, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
            "F_A": r.main.F_A, "F_P": r.main.F_P, "status": r.status,
-           "load_1min": os.getloadavg()[0]}
+           "load_1min": os.getloadavg()[0], "confirm": r.scene.solver.confirm}
+    for key in ("confirmed_local", "confirmed_global", "certificates_refused",
+                "directions_local", "directions_refused", "force_bound_tilde"):
+        if key in st:
+            row[key] = float(st[key]) if key == "force_bound_tilde" else int(st[key])
     if args.get("floor"):           # after the curve and its peak memory
         row.update(_floors(row["fft_size"], cpu, st["fft_pairs"]))
     return row

@@ -243,6 +243,14 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
     }
     if isinstance(driver, MachineDriver):
         res.stats.update(jumps=driver.jumps, jump_events=driver.jump_events)
+    cert = driver.certificate
+    if cert is not None:        # confirm: local (fibril_hpc.solve.certify)
+        res.stats.update(confirmed_local=cert.local,
+                         confirmed_global=driver.relaxations - cert.local,
+                         certificates_refused=cert.refused,
+                         directions_local=cert.direction_local,
+                         directions_refused=cert.direction_refused,
+                         force_bound_tilde=float((cert.worst + cert.direction_worst) / sc.F_c))
     if status == STATUS_FAILED:
         log.warning("simulation failed: %s", message)
     return res

@@ -42,6 +42,10 @@ def _human(result) -> str:
     st = result.stats
     lines.append(f"  status {result.status}; {st['wall_s']:.2f} s, {st['cg_iterations']} CG "
                  f"iterations, {st['fft_pairs']} FFT pairs, {st['events']} events")
+    if "confirmed_local" in st:         # solver.confirm: local
+        lines.append(f"  confirmed locally {st['confirmed_local']}, globally "
+                     f"{st['confirmed_global']} relaxations; directions kept locally "
+                     f"{st['directions_local']}; force bound {st['force_bound_tilde']:.2g} F~")
     if result.status == "ok" and result.message:
         lines.append(f"  note: {result.message}")
     return "\n".join(lines)

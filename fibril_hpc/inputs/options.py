@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
+from ..errors import ConfigError
 from .presets import DEFAULT_PRESET, preset_values
 from .ranges import Choice, Int, Real, check_fields
 
@@ -123,6 +124,18 @@ class SolverOptions:
         (measured on the default scene: F~_A within 2e-9 of the ``cg_tol`` direction, 1.17-1.19x
         fewer FFT pairs; benchmarks/NOTES.md §21). Range (0, 1e-2]. Stored in the scene text, and
         part of job keys, only off its default.
+    confirm : str
+        How the state after a contact event is confirmed (needs ``cascade: local``):
+        ``"global"`` (default, the reference: a global solve at ``cg_tol`` ends every
+        relaxation) or ``"local"`` (a local fixed point is accepted without that solve when a
+        certified bound on its force error, from its exact residual and the direction solved on
+        its set, is at most ``confirm_tol``; else the global solve runs:
+        :mod:`fibril_hpc.solve.certify`). Results record the relaxations confirmed each way and
+        the largest bound. Stored in the scene text, and part of job keys, only off its default.
+    confirm_tol : float
+        Largest certified force error (in F~ units, F_c) of a state that ``confirm: local``
+        accepts without a global solve. Range (0, 1e-2]. Default 5e-5. Stored in the scene text,
+        and part of job keys, only off its default.
     """
 
     cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
@@ -147,9 +160,14 @@ class SolverOptions:
                                        Real(0, 1e-2, lo_open=True,
                                             none=f"null ({DIRECTION_SLACK:g} x cg_tol)"),
                                        extra=True)
+    confirm: str = _opt("global", "accuracy", Choice(("global", "local")), extra=True)
+    confirm_tol: float = _opt(5e-5, "accuracy", Real(0, 1e-2, lo_open=True), extra=True)
 
     def __post_init__(self):
         check_fields(self, "solver.")
+        if self.confirm == "local" and self.cascade != "local":
+            raise ConfigError("solver.confirm", self.confirm, "'global' (or 'local' together "
+                              "with solver.cascade: local)")
 
     @classmethod
     def from_preset(cls, name: str = DEFAULT_PRESET, **overrides) -> SolverOptions:

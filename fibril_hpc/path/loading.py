@@ -30,13 +30,14 @@ import numpy as np
 from ..errors import NoConvergenceError
 from ..kernels import compiled as kern
 from ..solve.cascade import LocalCascade
+from ..solve.certify import ForceCertificate
 from .records import BranchResult, CurveRecorder, Snapshot
+from .snapshots import SnapshotMixin
 
 _MAX_RELAX_PASSES = 100_000
-_MAX_SNAPSHOT_PASSES = 1000
 
 
-class PathDriver:
+class PathDriver(SnapshotMixin):
     """Owns the mutable state of one load path on a :class:`~fibril_hpc.model.Model`."""
 
     def work_arrays(self) -> dict:
@@ -93,6 +94,12 @@ class PathDriver:
         self.tol_dir = opts.direction_tolerance
         self.worst_only = opts.detach_policy == "worst"
         self.local = LocalCascade(model) if opts.cascade == "local" else None
+        #: ``confirm: local``: the force bound that lets a local fixed point end a relaxation
+        self.certificate = (ForceCertificate(g, model.operator, model.solver.alpha,
+                                             opts.confirm_tol * model.scaling.F_c)
+                            if opts.confirm == "local" else None)
+        self._fresh_direction = False
+        self.relaxations = 0        # calls of relax(): events, preload snapshots, solve_at
         self.deadline = (math.inf if opts.max_wall_s is None
                          else time.monotonic() + opts.max_wall_s)
 
@@ -142,6 +149,7 @@ class PathDriver:
         one with the reference's tolerances.
         """
         m = self.model
+        self.relaxations += 1
         np.subtract(self.d, self.z0, out=self._b)
         loose = max(m.options.relax_tol, m.options.cg_tol)
         tight = True
@@ -156,6 +164,9 @@ class PathDriver:
                         # the set changed: a local fixed point is confirmed at full tolerance
                         # at once; an untrusted proposal is an intermediate (loose) pass
                         tight = out[1] or loose == m.options.cg_tol
+                    if out is not None and out[1] and self.certificate is not None \
+                            and self._confirm_locally():
+                        return
             tol = None if tight else loose
             self._solve(self._b, self.p, self.u, self.p_ref, tol)
             self.att_ref[:] = self.att
@@ -164,13 +175,63 @@ class PathDriver:
             nd, na = kern.update_contact_set(self.p, self.g, self.att, self.starts, m.sigma_c,
                                              self.tol_p, self.tol_g, self.worst_only)
             if nd == 0 and na == 0:
-                if tol is None:
+                # a set stable at the loose tolerance: confirmed at full tolerance, or on the
+                # force bound (confirm: local)
+                if tol is None or (self.certificate is not None and self._confirm_locally()):
                     return
-                tight = True        # confirm at full tolerance
+                tight = True
             elif loose != m.options.cg_tol:
                 tight = False
         raise NoConvergenceError(f"contact set did not settle in {_MAX_RELAX_PASSES} passes "
                                  f"at d = {self.d:.6g}")
+
+    def _confirm_locally(self) -> bool:
+        """``confirm: local``: end the relaxation at the local fixed point, without a global
+        solve, if the update rule flips nothing on the whole grid (u made exact)
+        and the force bound (:mod:`fibril_hpc.solve.certify`, with the direction solved here
+        on the set) is within ``confirm_tol``; else the caller's global solve follows."""
+        self._exact_field(self.p, self.p_ref, self.u)
+        self._forces(self.p, self.f)
+        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+        m = self.model
+        if kern.update_contact_set(self.p.copy(), self.g, self.att.copy(), self.starts, m.sigma_c,
+                                   self.tol_p, self.tol_g, self.worst_only) != (0, 0):
+            return False
+        self.solve_direction()
+        cert = self.certificate
+        self._fresh_direction = cert.accept(cert.bound(self.att, self._b, self.p, self.u,
+                                                       self.p1, self.u1, self._ones))
+        if self._fresh_direction:
+            self.att_ref[:] = self.att
+        return self._fresh_direction
+
+    #: whether ``confirm: local`` may keep a locally solved direction (a path that moves one
+    #: way to its next event; a compliant machine's jumps go either way and solve globally)
+    LOCAL_DIRECTION = True
+
+    def _direction_locally(self) -> bool:
+        """``confirm: local``: keep the locally solved direction, without a global solve, if
+        its certified force-slope error times the distance to the next event is within
+        ``confirm_tol`` (:mod:`fibril_hpc.solve.certify`; u1 made exact first)."""
+        if not self.LOCAL_DIRECTION:
+            return False
+        self._exact_field(self.p1, self.p1_ref, self.u1)
+        self._forces(self.p1, self.f1)
+        self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
+        reach = self.next_event(1.0 if self.phase == "loading" else -1.0)
+        return self.certificate.accept_direction(self.att, self.p1, self.u1, self._ones, reach)
+
+    def _exact_field(self, x, x_ref, u):
+        """u <- K x exactly (``confirm: local``, before a bound): direct sums of x - x_ref
+        where cheaper than an FFT pair, else one pair (which also refreshes u); x_ref <- x."""
+        idx = np.flatnonzero(x != x_ref)
+        if self._since_full < self.REFRESH and self.model.operator.add_point_loads(
+                u, idx, x[idx] - x_ref[idx]):
+            self._since_full += 1
+        else:
+            self.model.operator.apply(x, u)
+            self._since_full = 0
+        x_ref[:] = x
 
     def _changed_groups(self, x, x_ref, att_ref):
         """Groups with an element whose value or attachment changed since the last solve."""
@@ -194,15 +255,21 @@ class PathDriver:
     def solve_direction(self):
         """p1 = A^-1 1_S, u1 = K p1, f1, g1 on the current set, to ``solver.direction_tol``
         (the state itself is relaxed to ``cg_tol`` at every event)."""
+        if self._fresh_direction:           # solved on this set by the local confirmation
+            self._fresh_direction = False
+            return
         self.p1[self.att == 0] = 0.0
         if self.att.any():
+            done = False
             if self.local is not None:
                 # the set changed on a few pillars since the last direction: solve those
                 # directly with the rest held, so the global solve only restores the coupling
                 groups = self._changed_groups(self.p1, self.p1_ref, self.att1_ref)
                 if len(groups):
                     self.local.solve(groups, self._ones, self.p1, self.p1_ref, self.u1, self.att)
-            self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir)
+                    done = self.certificate is not None and self._direction_locally()
+            if not done:
+                self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir)
         else:
             self.u1[:] = 0.0
             self.p1_ref[:] = 0.0
@@ -235,78 +302,6 @@ class PathDriver:
         if time.monotonic() > self.deadline:
             raise NoConvergenceError(f"wall-time cap of {self.model.options.max_wall_s:g} s "
                                      "exceeded (solver.max_wall_s)")
-
-    _STATE = ("p", "u", "att", "g", "f", "p1", "u1", "g1", "f1", "p_ref", "p1_ref", "att_ref",
-              "att1_ref")
-
-    def _save(self) -> dict:
-        out = {k: getattr(self, k).copy() for k in self._STATE}
-        out["d"] = self.d
-        out["_since_full"] = self._since_full
-        out["_precond"] = self.model.solver.precond.state()
-        return out
-
-    def _load(self, saved: dict):
-        for k in self._STATE:
-            getattr(self, k)[:] = saved[k]
-        self.d = saved["d"]
-        self._since_full = saved["_since_full"]
-        self.model.solver.precond.set_state(saved["_precond"])
-
-    def snapshot_ahead(self, dist: float, n_points: int, force_target: float | None = None
-                       ) -> Snapshot:
-        """The consistent state ``dist`` further along the path, without touching the path.
-
-        The state is moved there on the current set; elements whose events lie *before* it (by
-        more than 1e-9 d_c: passed inside an event batch) flip and the set is relaxed, so the
-        preload state has no penetrating free element; an event exactly at the preload does not
-        flip, so a request that lands on an event is met exactly instead of by rounding. For a
-        force preload (``force_target``) the state is then moved along the new set until the force
-        equals the request again (repeated while that passes further events). Finally every array
-        (the preconditioner's state included) is put back bit for bit: the path does not depend on
-        which preloads are requested, and grouped preloads give exactly what separate runs give.
-        Each unloading branch starts with the preconditioner's history forgotten (``restore``).
-        """
-        saved = self._save()
-        self.move(abs(dist), 1.0 if dist >= 0 else -1.0)
-        passed = -1e-9 * self.model.scaling.d_c
-        for _ in range(_MAX_SNAPSHOT_PASSES):
-            if dist <= 0 or kern.flip_events(self.p, self.p1, self.g, self.g1, self.att,
-                                             self.model.sigma_c, 1.0, passed) == (0, 0):
-                break
-            self.relax()
-            self.solve_direction()
-            f1 = float(self.f1.sum())
-            if force_target is None or not f1 > 0:
-                break
-            step = (force_target - self.force()) / f1
-            self.move(abs(step), 1.0 if step >= 0 else -1.0)
-        else:
-            raise NoConvergenceError("the preload state did not settle")
-        snap = Snapshot(self.d, self.p.copy(), self.u.copy(), self.att.copy(), self.p1.copy(),
-                        self.u1.copy(), n_points,
-                        (self.d, self.force(), self.n_attached(), self.pillars_in_contact()))
-        self._load(saved)
-        return snap
-
-    def restore(self, snap: Snapshot):
-        """Return to the state of a snapshot."""
-        self.d = snap.d
-        self.p[:] = snap.p
-        self.u[:] = snap.u
-        self.att[:] = snap.att
-        self.p1[:] = snap.p1
-        self.u1[:] = snap.u1
-        self.p_ref[:] = snap.p
-        self.p1_ref[:] = snap.p1
-        self.att_ref[:] = snap.att
-        self.att1_ref[:] = snap.att
-        self._since_full = 0
-        self.model.solver.precond.set_state(None)     # a function of the set from here on
-        self._forces(self.p, self.f)
-        self._gaps(self.u, self.f, self.d, 1.0, self.g)
-        self._forces(self.p1, self.f1)
-        self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
 
     def _step(self, sgn, dist, curve, on_point=None, on_batch=None):
         """Advance through the next batch of events and re-equilibrate.
@@ -367,6 +362,7 @@ class PathDriver:
         self.att_ref[:] = 0
         self.att1_ref[:] = 0
         self._since_full = 0
+        self._fresh_direction = False
         self.model.solver.precond.set_state(None)
         self._forces(self.p, self.f)
         self._gaps(self.u, self.f, self.d, 1.0, self.g)

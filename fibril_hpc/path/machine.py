@@ -52,6 +52,9 @@ _MAX_JUMP_EVENTS = 1_000_000
 class MachineDriver(PathDriver):
     """A :class:`PathDriver` behind a load train of stiffness ``k_machine`` (internal units)."""
 
+    #: a jump moves either way from a direction: directions are solved globally
+    LOCAL_DIRECTION = False
+
     def __init__(self, model, k_machine: float):
         super().__init__(model)
         if not (k_machine > 0 and math.isfinite(k_machine)):
