@@ -19,6 +19,7 @@ from ...errors import DamagedFileError, StoreError, UnknownLayoutError
 from ...io import h5check, isolate
 from . import integrity
 from .grids import GridIndex, grid_matches
+from .rootcheck import root_problem
 from .record import BRANCHES, CURVE_KEYS, CURVE_KINDS, OPTIONAL_CURVE_KEYS, layout_problem
 
 log = logging.getLogger(__name__)
@@ -178,9 +179,10 @@ def _read_h5_checked(path: str, curves: bool, tolerant: bool) -> H5Read:
         if out.root.get("program") != PROGRAM and not tolerant:
             raise StoreError(f"{path} is not a fibril-hpc campaign file")
         check_layout_version(out.root, path)
-        # salvage: a damaged root (a flipped byte) must not make the records foreign; they
-        # then belong by their own stored scene, and still only when their checksum verifies
-        out.index = GridIndex.of_root(out.root, trusted=not tolerant or root_whole(out.root))
+        # a damaged root (a flipped byte in its grid or hash) must not make the records
+        # foreign; they then belong by their own stored scene, and still only when their
+        # checksum verifies
+        out.index = GridIndex.of_root(out.root, trusted=not root_problem(out.root))
         for k in keys:
             try:
                 rec = _read_group(_open_job(jobs, k))
