@@ -10,7 +10,8 @@ The campaign writer keeps every finished record in two files at every moment:
 
 A checkpoint (:func:`publish`) follows what SQLite and HDF5's durability notes ask of a
 rename-into-place writer: the new file is written beside the old one, ``fsync``-ed, read back and
-verified (every record it must hold is there, whole), and only then is the old file renamed to
+verified (its bytes are the bytes meant, every record it must hold is there and the new ones
+read whole and verify), and only then is the old file renamed to
 ``<file>.previous`` (a second name made with ``link`` then ``rename``: no copy) and the new one
 renamed into place, and the folder is ``fsync``-ed. The journal is trimmed only after that.
 A new file that does not read back whole is never published (:class:`CheckpointNotVerified`).
@@ -86,13 +87,22 @@ def publish(path: str, data, verify=None, keep_previous: bool = False,
             os.fsync(fd)
         finally:
             os.close(fd)
-        problem = verify(tmp) if verify is not None else ""
+        problem = (_read_back(tmp, data) or verify(tmp)) if verify is not None else ""
         if problem:
             raise CheckpointNotVerified(path, path + ".journal", problem)
         if keep_previous and os.path.exists(path):
             _second_name(path, previous_path(path), folder)
         os.replace(tmp, path)
         fsync_dir(folder)
+
+
+def _read_back(tmp: str, data) -> str:
+    """"" when the bytes of ``tmp`` on disk are ``data``, else what differs."""
+    with open(tmp, "rb") as fh:
+        got = fh.read()
+    if got == bytes(data):
+        return ""
+    return f"{len(got)} bytes read back of {len(data)} written, or other bytes"
 
 
 def keep_copy(path: str) -> None:

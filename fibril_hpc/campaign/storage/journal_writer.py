@@ -76,9 +76,9 @@ class JournalWriter:
         self._fds = {}
         good = b"".join(f for _, f in self._frames)
         for p, data, _ in scans:
-            if data != good or not os.path.exists(p):
+            if data != good:
                 _rewrite(p, good)
-            self._fds[p] = os.open(p, os.O_WRONLY | os.O_APPEND, 0o644)
+            self._fds[p] = os.open(p, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
 
     def _ensure(self) -> None:
         """Rebuild a file of the pair that was deleted or replaced under the writer."""

@@ -62,6 +62,7 @@ from .h5read import (
     PROGRAM,
     REFS,
     H5Read,
+    check_written,
     damaged_error,
     read_h5_checked,
     read_h5_records,
@@ -332,5 +333,5 @@ def write_merged(path: str, root_attrs: dict, records, unsigned=(), field: str =
 
 __all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",
            "read_snapshot", "checkpoint", "root_attrs_for", "write_merged", "write_record",
-           "clean_temporaries", "newer", "accepted_hashes", "H5Read",
+           "clean_temporaries", "newer", "accepted_hashes", "H5Read", "check_written",
            "Snapshot", "PROGRAM", "REFS", "FORMAT_VERSION", "root_whole"]

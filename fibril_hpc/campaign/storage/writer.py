@@ -278,7 +278,8 @@ class CampaignWriter:
         expect = {k: r["record_id"] for k, r in self.records.items()}
         try:
             store.checkpoint(self.path, self.root_attrs, recs, drop=self.corrupt,
-                             verify=_verifier(expect), keep_previous=True)
+                             verify=_verifier(expect, [r["key"] for r in recs]),
+                             keep_previous=True)
         except DamagedFileError as exc:
             if _fingerprint(self.path) == self._seen:      # damaged before this run: salvage
                 raise
@@ -333,20 +334,12 @@ class CampaignWriter:
             self._lock_fd = None
 
 
-def _verifier(expect: dict):
+def _verifier(expect: dict, added):
     """A check of a new checkpoint copy: every record of ``expect`` ({key: record_id}) is in
-    it, reads and verifies ("" when all do, else what is wrong)."""
+    it, and the records ``added`` read whole and verify ("" when so, else what is wrong)."""
 
     def verify(tmp: str) -> str:
-        try:
-            got = store.read_h5_checked(tmp, curves=False)
-        except StoreError as exc:
-            return str(exc).split("; ")[0][:200]
-        bad = [k for k, rid in expect.items() if k not in got.foreign
-               and got.records.get(k, {}).get("record_id") != rid]
-        if bad:
-            return f"{len(bad)} record(s) missing or damaged in it, e.g. {bad[0]}"
-        return ""
+        return store.check_written(tmp, expect, added)
     return verify
 
 
