@@ -38,13 +38,18 @@ def _external(problem: str) -> bool:
     return "no such file" in p or "not found" in p or "does not exist" in p
 
 
-def _grid_problem(what: str, y, h) -> str:
+def _grid_problem(what: str, y, h, current: bool = True) -> str:
+    """What is wrong with one stored grid and its hash. An earlier grid (``current`` False)
+    that parses but does not validate is not taken for damage: a grid an older version wrote
+    may use what this version no longer accepts."""
     if not isinstance(y, str) or not y:
         return f"{what}: no stored grid"
     problem = rebuild_problem(y)
     if problem:
-        return "" if _external(problem) else f"{what}: the stored grid does not rebuild " \
-                                              f"({problem})"
+        parsed = not problem.startswith(("it does not parse", "it is not a mapping"))
+        if _external(problem) or (parsed and not current):
+            return ""
+        return f"{what}: the stored grid does not rebuild ({problem})"
     if rebuilt_hash(y) != h:
         return (f"{what}: the stored campaign hash {str(h)[:16]} is not the hash of the stored "
                 f"grid ({str(rebuilt_hash(y))[:16]}): one of them is damaged")
@@ -79,7 +84,8 @@ def root_problem(root: dict) -> str:
         if h != "merged-" + campaign_hash_of(hashes)[:52]:
             return "the stored campaign hash is not the hash of the merged grids (merged_from)"
         for s in merged:
-            p = _grid_problem("merged_from", s.get("campaign_yaml"), s.get("campaign_hash"))
+            p = _grid_problem("merged_from", s.get("campaign_yaml"), s.get("campaign_hash"),
+                              current=False)
             if p:
                 return p
     else:
@@ -87,7 +93,8 @@ def root_problem(root: dict) -> str:
         if p:
             return p
     for s in _listed(root, "extended_from"):
-        p = _grid_problem("extended_from", s.get("campaign_yaml"), s.get("campaign_hash"))
+        p = _grid_problem("extended_from", s.get("campaign_yaml"), s.get("campaign_hash"),
+                          current=False)
         if p:
             return p
     return ""

@@ -99,8 +99,8 @@ def check_output(spec, extend: bool = False) -> list:
     previous = durable.previous_path(path)
     if os.path.exists(previous):
         raise ConfigError("output", path,
-                          f"a campaign file that is there: it is missing, but its previous "
-                          f"generation {previous} is not; recover every record with "
+                          f"a campaign file that exists (it is missing, but its previous "
+                          f"generation {previous} is here); recover every record with "
                           f"`fibril-campaign salvage {path} -o NEW.h5`, then rerun with "
                           "--output NEW.h5")
     jrecs, _ = _journal.read(_journal.journal_path(path))
