@@ -37,6 +37,9 @@ def one_line(err: str) -> str:
     return lines[0]
 
 
+_ADD = CampaignWriter.add          # as shipped (the fixture below wraps it)
+
+
 @pytest.fixture(autouse=True)
 def checkpoint_every_task(monkeypatch):
     """A checkpoint after every task (``--checkpoint-s 0`` stretches its interval to ten times
@@ -151,7 +154,7 @@ def test_a_side_file_damaged_mid_run_loses_nothing(tmp_path, capsys, monkeypatch
     assert sorted(os.listdir(tmp_path)) == ["grid.yaml", "tiny.h5"]
 
 
-def _killed_run(tmp_path, n_tasks=3):
+def _killed_run(tmp_path, n_tasks=3, checkpoint_s=0):
     """A run stopped after ``n_tasks`` tasks (as a kill leaves it, checkpointed after
     each task): returns (grid, file, {key: record_id} of its finished records)."""
     from fibril_hpc.campaign import load_spec
@@ -172,7 +175,7 @@ def _killed_run(tmp_path, n_tasks=3):
     runner.execute_task = task
     close, CampaignWriter.close = CampaignWriter.close, killed
     try:
-        assert runner.run_serial(load_spec(grid), progress=False, checkpoint_s=0,
+        assert runner.run_serial(load_spec(grid), progress=False, checkpoint_s=checkpoint_s,
                                  max_tasks=n_tasks) == 75
     finally:
         runner.execute_task = real
@@ -203,6 +206,23 @@ def test_one_file_damaged_after_a_kill_loses_nothing(tmp_path, capsys, which, da
         code, _, err = cli([grid, "--no-progress", "--output", new], capsys)
         assert code == 0, err
         out = new
+    _assert_kept(out, finished)
+
+
+@pytest.mark.parametrize("which", ["journal", "mirror"])
+@pytest.mark.parametrize("damage", ["half", "delete", pytest.param("garbage",
+                                                                  marks=pytest.mark.slow)])
+def test_records_only_in_the_journal_survive_one_journal_file_damaged(tmp_path, capsys,
+                                                                       monkeypatch, which,
+                                                                       damage):
+    """Records finished since the last checkpoint (here: all of them, no checkpoint yet) are
+    in the journal and its mirror: a kill, then one of the two damaged, loses none."""
+    monkeypatch.setattr(CampaignWriter, "add", _ADD)
+    grid, out, finished = _killed_run(tmp_path, checkpoint_s=1e6)
+    assert read_h5_records(out)[1] == {} and len(finished) == 6     # only in the journal pair
+    DAMAGES[damage](_file(out, which))
+    code, _, err = cli([grid, "--no-progress"], capsys)
+    assert code == 0, err
     _assert_kept(out, finished)
 
 
