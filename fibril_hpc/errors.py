@@ -129,6 +129,7 @@ class DiskFull(Interruption):
     def __init__(self, path, operation, detail=""):
         self.path = path
         self.operation = operation
+        self.detail = detail
         super().__init__(f"disk full during {operation} of {path}"
                          + (f" ({detail})" if detail else "")
                          + "; free space (or quota) and rerun the same command to resume")

@@ -19,6 +19,7 @@ from hypothesis import strategies as st
 
 from fibril_hpc.campaign.storage import integrity
 from fibril_hpc.campaign.storage import journal as J
+from fibril_hpc.campaign.storage.journal_writer import JournalWriter
 
 HASH = "a" * 64
 OTHER = "b" * 64
@@ -52,7 +53,7 @@ def same(a, b) -> bool:
 
 def test_round_trip_is_bitwise(tmp_path):
     path = str(tmp_path / "x.h5.journal")
-    w = J.JournalWriter(path)
+    w = JournalWriter(path)
     recs = [record(i) for i in range(4)]
     for r in recs:
         w.append(r)
@@ -87,7 +88,7 @@ def test_old_pickle_journal_is_never_unpickled(tmp_path):
     assert not marker.exists()
     assert [r["key"] for r in got] == [record(1)["key"]] and len(s.old) == 1
     assert "old-format (pickle)" in s.message(path)
-    w = J.JournalWriter(path)
+    w = JournalWriter(path)
     w.close()
     assert not marker.exists()
     assert len(w.replayed) == 1
@@ -112,7 +113,7 @@ def test_damaged_frame_keeps_later_frames_and_quarantines(tmp_path, caplog):
     msg = s.message(path)
     assert "1 damaged stretch" in msg and f"{a}-{b}" in msg and "\n" not in msg
     caplog.clear()
-    w = J.JournalWriter(path)                          # the writer repairs: nothing truncated
+    w = JournalWriter(path)                          # the writer repairs: nothing truncated
     w.close()
     assert [r["key"] for r in w.replayed] == [record(i)["key"] for i in (0, 1, 3, 4)]
     assert slurp(J.quarantine_path(path)) == bytes(data[a:b])
@@ -133,7 +134,7 @@ def test_a_frame_being_written_is_not_damage(tmp_path, caplog):
         got, s = J.read(path)
         assert len(got) == 2 and s.torn is not None and not s.damaged, cut
         assert s.message(path) == "" and not caplog.records
-    w = J.JournalWriter(path)              # the writer cuts it off (to the quarantine), quietly
+    w = JournalWriter(path)              # the writer cuts it off (to the quarantine), quietly
     w.close()
     assert J.scan(slurp(path)).clean and len(w.replayed) == 2
 
@@ -160,7 +161,7 @@ def test_foreign_and_keyless_frames_are_refused(tmp_path):
 
 def test_append_failure_leaves_no_torn_frame(tmp_path, monkeypatch):
     path = str(tmp_path / "x.h5.journal")
-    w = J.JournalWriter(path)
+    w = JournalWriter(path)
     w.append(record(1))
     real = os.fsync
 

@@ -23,7 +23,7 @@ from ..errors import (
     StoreError,
     UnknownLayoutError,
 )
-from ..io.files import check_output_folder, check_writable
+from ..io.files import check_output_folder, check_writable, make_new_folder
 from .campaign_args import PROG, SUBCOMMANDS, parser
 from .common import OUT_OF_MEMORY, error, interruptible, pipe_safe, setup_logging
 
@@ -70,7 +70,11 @@ def _existing(path, field) -> dict:
     except (DamagedFileError, UnknownLayoutError):
         raise
     except StoreError:
-        raise ConfigError(field, path, "a fibril-hpc campaign HDF5 file") from None
+        with open(path, "rb") as fh:
+            hdf5 = fh.read(8) == b"\x89HDF\r\n\x1a\n"
+        raise ConfigError(field, path, "a fibril-hpc campaign HDF5 file" + (
+            f" (if this is a damaged one, `fibril-campaign salvage {path} -o NEW.h5` copies "
+            "every record that reads and verifies)" if hdf5 else "")) from None
 
 
 # ------------------------------------------------------------------------------------ run
@@ -232,14 +236,20 @@ def cmd_export(args) -> int:
         raise ConfigError("--netcdf", args.netcdf, "a netCDF output with xarray and h5netcdf "
                           "installed (pip install 'fibril-hpc[netcdf]'), or --csv")
     export_csv, export_parquet = ex.export_csv, ex.export_parquet
+    def new(opt):                     # without --force: a new file, checked as it is written
+        return None if args.force else opt
+
     if args.csv:
-        n = export_csv(args.file, args.csv, include_unchecked=args.include_unchecked)
+        n = export_csv(args.file, args.csv, include_unchecked=args.include_unchecked,
+                       exclusive=new("--csv"))
         print(f"{args.csv}: {n} jobs")
     if args.parquet:
-        n = export_parquet(args.file, args.parquet, include_unchecked=args.include_unchecked)
+        n = export_parquet(args.file, args.parquet, include_unchecked=args.include_unchecked,
+                           exclusive=new("--parquet"))
         print(f"{args.parquet}: {n} jobs")
     if args.netcdf:
-        n = ex.export_netcdf(args.file, args.netcdf, include_unchecked=args.include_unchecked)
+        n = ex.export_netcdf(args.file, args.netcdf, include_unchecked=args.include_unchecked,
+                             exclusive=new("--netcdf"))
         print(f"{args.netcdf}: {n} jobs")
     return EXIT_OK
 
@@ -304,7 +314,7 @@ def cmd_example(args) -> int:
 
     check_writable(args.output, "--output")
     check_new(args.output, "--output")
-    write_text_atomically(args.output, text, "writing the example")
+    write_text_atomically(args.output, text, "writing the example", exclusive="--output")
     if examples.is_script(name):
         os.chmod(args.output, 0o755)
     print(f"{args.output}: {name}", file=sys.stderr)
@@ -315,9 +325,11 @@ def cmd_salvage(args) -> int:
     """Copy every readable, verified record into a new file to resume from."""
     from ..campaign.storage.guard import check_new
     from ..campaign.storage.verify import salvage_file
+    from ..campaign.storage.writer import has_second_copies
 
-    if not os.path.isfile(args.file):  # a damaged, cut or overwritten one is what salvage is
-        raise ConfigError("file", args.file, "an existing campaign file")     # for
+    if not os.path.isfile(args.file) and not has_second_copies(args.file):   # a damaged, cut or
+        raise ConfigError("file", args.file, "an existing campaign file")  # deleted one is
+    # what salvage is for
     check_writable(args.output, "--output")
     check_new(args.output, "--output")
     n = salvage_file(args.file, args.output, keep_unchecked=args.keep_unchecked)
@@ -341,11 +353,8 @@ def cmd_report(args) -> int:
     if not 20 <= args.n_boot <= 100000:
         raise ConfigError("--n-boot", args.n_boot, "an integer in [20, 100000]")
     parse_where(args.where, swept_lab_fields(root), "--where")       # before writing anything
-    try:
-        os.makedirs(args.out, exist_ok=True)
-    except OSError as exc:
-        raise ConfigError("--out", args.out, f"a folder that can be created ({exc.strerror})") \
-            from None
+    if not os.path.isdir(args.out):    # a new folder: made atomically (one of two racing wins)
+        make_new_folder(args.out, "--out")
     if not os.access(args.out, os.W_OK):
         raise ConfigError("--out", args.out, "a writable folder")
     files = write_report(args.file, args.out, n_boot=args.n_boot,

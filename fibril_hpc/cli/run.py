@@ -110,13 +110,15 @@ def main(argv=None) -> int:
         if args.out:
             from ..io.store import write_result_file
 
-            write_result_file(args.out, result)
+            write_result_file(args.out, result, None if args.force else "--out")
         if args.plot:
             from ..io.plot import plot_result
 
-            plot_result(result, args.plot)
+            plot_result(result, args.plot, None if args.force else "--plot")
     except DiskFull as exc:
         return error(PROG, exc, EXIT_INTERRUPTED)
+    except ConfigError as exc:        # --out/--plot created by another command meanwhile
+        return error(PROG, exc, EXIT_USAGE)
     except StoreError as exc:
         return error(PROG, exc, EXIT_FAILED)
     if args.json:

@@ -83,11 +83,15 @@ def free_bytes(folder: str) -> int:
     return st.f_bavail * st.f_frsize
 
 
-def write_bytes_atomically(path: str, data: bytes, operation: str, tmp_prefix: str) -> None:
+def write_bytes_atomically(path: str, data: bytes, operation: str, tmp_prefix: str,
+                           exclusive: str | None = None) -> None:
     """Write ``data`` to a temporary file beside ``path``, ``fsync``, rename over ``path``.
 
     The free space is checked first; ENOSPC/EDQUOT at any step becomes :class:`DiskFull`
-    naming ``path`` and ``operation``, and the temporary file is removed.
+    naming ``path`` and ``operation``, and the temporary file is removed. With ``exclusive``
+    (the option that names ``path``) ``path`` must be a new file: the finished file gets its
+    name only if no file has it yet, atomically (:func:`claim_new`), so that of two commands
+    racing to one new name exactly one wins.
     """
     import tempfile
 
@@ -113,28 +117,77 @@ def write_bytes_atomically(path: str, data: bytes, operation: str, tmp_prefix: s
             os.fsync(fd)
         finally:
             os.close(fd)
-        os.replace(tmp, path)
+        if exclusive:
+            claim_new(tmp, path, exclusive)
+        else:
+            os.replace(tmp, path)
         fsync_dir(folder)
 
 
-def save_figure(fig, path: str, operation: str = "writing the plot") -> None:
+#: errno values of a file system without hard links (EPERM, EXDEV, EMLINK, ENOSYS, ENOTSUP)
+_NO_LINKS = (1, 18, 31, 38, 95)
+
+
+def claim_new(tmp: str, path: str, field: str) -> None:
+    """Give the finished file ``tmp`` the name ``path`` only if no file (or link) has it:
+    ``link`` fails with EEXIST when one does, atomically (where hard links are not supported:
+    the name is claimed with ``O_CREAT | O_EXCL``, then the file renamed over the claim). A
+    name taken meanwhile is a one-line :class:`ConfigError` naming ``field``; ``tmp`` is then
+    left for the caller to remove."""
+    taken = ConfigError(field, path, "a new file name (another command created it while this "
+                        "one ran; this one wrote nothing)")
+    try:
+        os.link(tmp, path)
+    except FileExistsError:
+        raise taken from None
+    except OSError as exc:
+        if exc.errno not in _NO_LINKS:
+            raise
+        try:
+            os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        except FileExistsError:
+            raise taken from None
+        os.replace(tmp, path)
+        return
+    os.unlink(tmp)
+
+
+def make_new_folder(path: str, field: str) -> None:
+    """Create the folder ``path``, which must not exist (``mkdir``, atomic: of two commands
+    racing to one new folder exactly one creates it; the other gets a one-line
+    :class:`ConfigError` naming ``field``)."""
+    try:
+        os.mkdir(path)
+    except FileExistsError:
+        raise ConfigError(field, path, "a new folder (another command created it while this "
+                          "one ran; this one wrote nothing)") from None
+    except OSError as exc:
+        raise ConfigError(field, path, f"a folder that can be created ({exc.strerror})") \
+            from None
+
+
+def save_figure(fig, path: str, operation: str = "writing the plot",
+                exclusive: str | None = None) -> None:
     """Render a matplotlib figure to PNG in memory, then write it atomically (a full disk
     leaves no empty PNG behind, only a one-line :class:`DiskFull`). The PNG is marked as
-    written by fibril-hpc (see :func:`is_fibril_output`)."""
+    written by fibril-hpc (see :func:`is_fibril_output`). ``exclusive``: see
+    :func:`write_bytes_atomically`."""
     import io
 
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110, metadata={"Software": PNG_MARK})
     write_bytes_atomically(path, buf.getvalue(), operation,
-                           "." + os.path.basename(path) + ".part-")
+                           "." + os.path.basename(path) + ".part-", exclusive)
 
 
-def write_text_atomically(path: str, text: str, operation: str = "writing") -> None:
+def write_text_atomically(path: str, text: str, operation: str = "writing",
+                          exclusive: str | None = None) -> None:
     """UTF-8 ``text`` to ``path`` (temporary file + rename; ENOSPC/EDQUOT -> DiskFull). A file
     name that is not UTF-8 (``b"bad<0xff>.h5"`` reaches Python as lone surrogates) quoted in the
-    text is written with backslash escapes, so the file stays valid UTF-8."""
+    text is written with backslash escapes, so the file stays valid UTF-8. ``exclusive``: see
+    :func:`write_bytes_atomically`."""
     write_bytes_atomically(path, text.encode("utf-8", "backslashreplace"), operation,
-                           "." + os.path.basename(path) + ".part-")
+                           "." + os.path.basename(path) + ".part-", exclusive)
 
 
 PNG_MARK = "fibril-hpc"
@@ -173,4 +226,4 @@ def check_not_clobbering(path: str, field: str, force: bool) -> None:
 
 __all__ = ["check_writable", "check_output_folder", "check_not_clobbering", "is_fibril_output", "save_figure",
            "write_text_atomically", "discard_on_failure", "fsync_dir", "free_bytes",
-           "write_bytes_atomically"]
+           "write_bytes_atomically", "claim_new", "make_new_folder"]

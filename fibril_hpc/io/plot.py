@@ -8,9 +8,10 @@ from .files import save_figure
 from .results import SimulationResult
 
 
-def plot_result(result: SimulationResult, path: str) -> None:
+def plot_result(result: SimulationResult, path: str, exclusive: str | None = None) -> None:
     """F~ vs d~ (loading and unloading), contact fraction vs d~, and contact maps at the
-    largest preload and at pull-off; written as PNG to ``path``."""
+    largest preload and at pull-off; written as PNG to ``path`` (a new file, checked
+    atomically, with ``exclusive``: see :func:`fibril_hpc.io.files.write_bytes_atomically`)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -58,6 +59,6 @@ def plot_result(result: SimulationResult, path: str) -> None:
         fig.colorbar(im, ax=ax, shrink=0.8, label="p A0 / F_c (attached)")
 
     try:
-        save_figure(fig, path, "writing the plot")
+        save_figure(fig, path, "writing the plot", exclusive)
     finally:
         plt.close(fig)

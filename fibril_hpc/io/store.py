@@ -169,9 +169,11 @@ def write_result(group, result: SimulationResult) -> None:
             _dataset(g, "let_go_d_tilde", r.let_go_d_tilde, ("pillar",))
 
 
-def write_result_file(path: str, result: SimulationResult) -> None:
+def write_result_file(path: str, result: SimulationResult, exclusive: str | None = None) -> None:
     """Write a result to ``path`` atomically: built in memory (libhdf5 never meets a full
-    disk), then temporary file + rename; ENOSPC/EDQUOT -> one-line DiskFull."""
+    disk), then temporary file + rename; ENOSPC/EDQUOT -> one-line DiskFull. ``exclusive``
+    (the option naming ``path``): ``path`` must be new, checked atomically as it is written
+    (see :func:`fibril_hpc.io.files.write_bytes_atomically`)."""
     import io
 
     import h5py
@@ -179,7 +181,7 @@ def write_result_file(path: str, result: SimulationResult) -> None:
     buf = io.BytesIO()
     with h5py.File(buf, "w") as fh:
         write_result(fh, result)
-    write_bytes_atomically(path, buf.getbuffer(), "writing the result", ".fibril-")
+    write_bytes_atomically(path, buf.getbuffer(), "writing the result", ".fibril-", exclusive)
 
 
 # ------------------------------------------------------------------------------------ reading

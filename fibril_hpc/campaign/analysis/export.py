@@ -25,10 +25,13 @@ def _csv_value(v):
     return "" if v is None else v
 
 
-def export_csv(path: str, out: str, include_unchecked: bool = False) -> int:
+def export_csv(path: str, out: str, include_unchecked: bool = False,
+               exclusive: str | None = None) -> int:
     """Write the jobs of the campaign file ``path`` to ``out`` (atomically: temporary file +
     rename; a full disk is a one-line :class:`~fibril_hpc.errors.DiskFull`); returns the rows.
-    Records without a checksum are left out unless ``include_unchecked``."""
+    Records without a checksum are left out unless ``include_unchecked``. With ``exclusive``
+    (the option naming ``out``) ``out`` must be new, checked atomically as it is written (see
+    :func:`fibril_hpc.io.files.write_bytes_atomically`)."""
     c = load_campaign(path, curves=False, include_unchecked=include_unchecked)
     cols = COLUMNS + (("n_side",) if c.n_side_swept else ())
     extra = {n: c.lab_column(n) for n in c.lab_sweeps}
@@ -40,7 +43,7 @@ def export_csv(path: str, out: str, include_unchecked: bool = False) -> int:
     for i, j in enumerate(c.jobs):
         w.writerow([_csv_value(j.get(col)) for col in cols]
                    + [_csv_value(v[i]) for v in extra.values()])
-    write_text_atomically(out, buf.getvalue(), "writing the CSV export")
+    write_text_atomically(out, buf.getvalue(), "writing the CSV export", exclusive)
     return len(c.jobs)
 
 
@@ -54,26 +57,29 @@ def parquet_available() -> bool:
     return True
 
 
-def export_parquet(path: str, out: str, include_unchecked: bool = False) -> int:
+def export_parquet(path: str, out: str, include_unchecked: bool = False,
+                   exclusive: str | None = None) -> int:
     """Write the jobs of ``path`` to the Parquet file ``out`` (atomically, typed columns);
-    returns the rows. Needs pandas and pyarrow. Unchecked records as in :func:`export_csv`."""
+    returns the rows. Needs pandas and pyarrow. Unchecked records and ``exclusive`` as in
+    :func:`export_csv`."""
     df = load_campaign(path, curves=False, include_unchecked=include_unchecked).to_dataframe()
     buf = io.BytesIO()
     df.to_parquet(buf, engine="pyarrow", index=False)
     write_bytes_atomically(out, buf.getvalue(), "writing the Parquet export",
-                           "." + os.path.basename(out) + ".part-")
+                           "." + os.path.basename(out) + ".part-", exclusive)
     return len(df)
 
 
 def export_netcdf(path: str, out: str, curves: bool = True,
-                  include_unchecked: bool = False) -> int:
+                  include_unchecked: bool = False, exclusive: str | None = None) -> int:
     """Write the campaign file ``path`` as the netCDF-4 file ``out`` through h5netcdf
     (atomically): the Dataset of :func:`~fibril_hpc.campaign.analysis.dataset.to_xarray`, which
-    ``xarray.open_dataset(out)`` gives back equal; returns the jobs written."""
+    ``xarray.open_dataset(out)`` gives back equal; returns the jobs written. ``exclusive`` as in
+    :func:`export_csv`."""
     data = load_campaign(path, curves=curves, include_unchecked=include_unchecked)
     blob = to_xarray(data, curves=curves).to_netcdf(engine="h5netcdf")
     write_bytes_atomically(out, bytes(blob), "writing the netCDF export",
-                           "." + os.path.basename(out) + ".part-")
+                           "." + os.path.basename(out) + ".part-", exclusive)
     return len(data.jobs)
 
 

@@ -72,6 +72,30 @@ def job_sweeps(campaign_yaml) -> dict | None:
     return {j.key: dict(zip(names, combos[j.index // per])) for j in spec.jobs}
 
 
+def rebuild_problem(campaign_yaml: str) -> str:
+    """Why a stored grid does not rebuild ("" when it does): the YAML does not parse, is not a
+    mapping, or is not a grid this version accepts (the validation's one line)."""
+    if _rebuilt(campaign_yaml) is not None:
+        return ""
+    try:
+        data = yaml.safe_load(campaign_yaml)
+    except yaml.YAMLError as exc:
+        return f"it does not parse as YAML ({str(exc).splitlines()[0][:100]})"
+    if not isinstance(data, dict):
+        return "it is not a mapping of grid fields"
+    try:
+        spec_from_dict(dict(data, output="grid-index.h5"))
+    except Exception as exc:  # noqa: BLE001 - the one line of the validation
+        return str(exc).splitlines()[0][:200] if str(exc) else type(exc).__name__
+    return ""
+
+
+def rebuilt_hash(campaign_yaml) -> str | None:
+    """The campaign hash of a stored grid rebuilt (None when it does not rebuild)."""
+    spec = _rebuilt(campaign_yaml) if isinstance(campaign_yaml, str) and campaign_yaml else None
+    return None if spec is None else spec.campaign_hash
+
+
 def grid_matches(root: dict) -> bool:
     """Whether a file's root is whole: its ``campaign_yaml`` rebuilds to a grid whose campaign
     hash is the root's ``campaign_hash`` (a flipped byte in either breaks it)."""
@@ -238,4 +262,5 @@ def _own_key(rec: dict) -> bool:
         return False
 
 
-__all__ = ["GridIndex", "stored_grids", "job_sweeps", "grid_matches"]
+__all__ = ["GridIndex", "stored_grids", "job_sweeps", "grid_matches", "rebuild_problem",
+           "rebuilt_hash"]

@@ -24,7 +24,8 @@ from . import journal as _journal
 from .h5read import read_root
 
 #: suffixes of the files that live beside a campaign file
-SIDE_SUFFIXES = (".journal", ".journal.quarantine", ".journal.rewrite", ".lock")
+SIDE_SUFFIXES = (".journal", ".journal.quarantine", ".journal.rewrite", ".journal.mirror",
+                 ".journal.mirror.quarantine", ".journal.mirror.rewrite", ".lock")
 _HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 
 
@@ -57,11 +58,12 @@ def protected(path: str) -> str:
     for suffix in SIDE_SUFFIXES:
         base = real[: -len(suffix)]
         if name.endswith(suffix) and (os.path.exists(base) or suffix != ".lock"):
-            return "a campaign's journal or lock file"
+            return "a campaign's journal, previous copy or lock file"
     if is_held(real):
         return "a campaign file that a running campaign is writing"
-    if os.path.exists(_journal.journal_path(real)) or os.path.exists(real + ".lock"):
-        return "a campaign file (it has a journal or lock file beside it)"
+    if any(os.path.exists(real + suffix) for suffix in (".journal", ".journal.mirror",
+                                                          ".previous", ".lock")):
+        return "a campaign file (it has a journal, previous copy or lock file beside it)"
     try:
         with open(real, "rb") as fh:
             head = fh.read(8)

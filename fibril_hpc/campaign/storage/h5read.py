@@ -19,6 +19,7 @@ from ...errors import DamagedFileError, StoreError, UnknownLayoutError
 from ...io import h5check, isolate
 from . import integrity
 from .grids import GridIndex, grid_matches
+from .rootcheck import root_problem
 from .record import BRANCHES, CURVE_KEYS, CURVE_KINDS, OPTIONAL_CURVE_KEYS, layout_problem
 
 log = logging.getLogger(__name__)
@@ -178,9 +179,10 @@ def _read_h5_checked(path: str, curves: bool, tolerant: bool) -> H5Read:
         if out.root.get("program") != PROGRAM and not tolerant:
             raise StoreError(f"{path} is not a fibril-hpc campaign file")
         check_layout_version(out.root, path)
-        # salvage: a damaged root (a flipped byte) must not make the records foreign; they
-        # then belong by their own stored scene, and still only when their checksum verifies
-        out.index = GridIndex.of_root(out.root, trusted=not tolerant or root_whole(out.root))
+        # a damaged root (a flipped byte in its grid or hash) must not make the records
+        # foreign; they then belong by their own stored scene, and still only when their
+        # checksum verifies
+        out.index = GridIndex.of_root(out.root, trusted=not root_problem(out.root))
         for k in keys:
             try:
                 rec = _read_group(_open_job(jobs, k))
@@ -312,6 +314,28 @@ def warn_corrupt(path: str, got: H5Read) -> None:
                     " ..." if len(keys) > 3 else "", path)
 
 
+def check_written(path: str, expect: dict, full) -> str:
+    """What is wrong with a campaign file just written ("" when nothing): every key of
+    ``expect`` ({key: record_id}) must be a job group with that ``record_id``, and the records
+    of the keys ``full`` (the ones just added) must read whole and verify. Cheap: the other
+    records are checked by their ``record_id`` only (their bytes were copied unchanged, and the
+    caller compares the file's bytes with what it meant to write)."""
+    try:
+        with h5py.File(path, "r") as fh:
+            jobs = h5check.member(fh, "jobs", h5py.Group)
+            for k, rid in expect.items():
+                g = _open_job(jobs, k)
+                if h5check.read_attr(g, "record_id") != rid:
+                    return f"record {k} is not the one expected"
+            for k in full:
+                rec = _read_group(_open_job(jobs, k))
+                if integrity.check(rec) == integrity.CORRUPT or rec.get("key") != k:
+                    return f"record {k} does not verify"
+    except Exception as exc:  # noqa: BLE001 - anything unreadable is the finding
+        return f"{type(exc).__name__}: {str(exc).splitlines()[0][:120] if str(exc) else ''}"
+    return ""
+
+
 def read_h5_records(path: str, curves: bool = True) -> tuple[dict, dict]:
     """(root attrs, {key: record}) from the HDF5 file alone (corrupt records left out)."""
     got = read_h5_checked(path, curves)
@@ -320,5 +344,6 @@ def read_h5_records(path: str, curves: bool = True) -> tuple[dict, dict]:
 
 
 __all__ = ["PROGRAM", "FORMAT_VERSION", "REFS", "check_layout_version", "root_whole", "H5Read",
+           "check_written",
            "damaged_error", "read_root",
            "read_h5_checked", "read_h5_salvage", "read_h5_records", "warn_corrupt"]

@@ -24,8 +24,10 @@ reported (count and byte ranges, one line); frames of another campaign, frames w
 no job of the grid (*foreign*: never counted or published), and frames whose record carries no
 checksum or one that does not verify (*unverified*, see :mod:`.integrity`: the CRCs only say that
 the bytes are the bytes written, not that this code wrote the record), are refused (one line).
-The writer (:class:`JournalWriter`) moves every damaged, foreign or old-format stretch to
-``<journal>.quarantine`` and keeps the intact frames, so nothing is silently truncated away.
+The writer (:class:`~.journal_writer.JournalWriter`) writes every frame to the journal and
+to its mirror (``<journal>.mirror``: two copies of each record), and moves every damaged,
+foreign or old-format stretch to ``<journal>.quarantine`` and keeps the intact frames, so
+nothing is silently truncated away.
 
 Old journals (magic ``FJR1``, written by fibril-hpc up to format 1) held pickled payloads;
 unpickling a file runs code chosen by whoever wrote it, so they are never unpickled: their
@@ -63,6 +65,11 @@ DTYPES = frozenset(np.dtype(t).str for t in ("f8", "f4", "i8", "i4", "i2", "i1",
 def journal_path(output: str) -> str:
     """The journal beside a campaign file (of its resolved path: symlinks are followed)."""
     return os.path.realpath(output) + ".journal"
+
+
+def mirror_path(output_journal: str) -> str:
+    """The journal's second copy: every frame is written to both files."""
+    return output_journal + ".mirror"
 
 
 def quarantine_path(output_journal: str) -> str:
@@ -270,94 +277,30 @@ def read_bytes(path: str) -> bytes:
         return b""
 
 
+def scan_pair(path: str, accept=None, belongs=None) -> Scan:
+    """The scan of the journal ``path``, with the intact records of its mirror that the journal
+    lacks added (a journal deleted, cut or damaged loses nothing its mirror holds). The
+    positions and the damage reported are the journal's own."""
+    return scan_bytes(read_bytes(path), read_bytes(mirror_path(path)), accept, belongs)
+
+
+def scan_bytes(journal: bytes, mirror: bytes, accept=None, belongs=None) -> Scan:
+    """:func:`scan_pair` of the bytes of a journal and of its mirror."""
+    s = scan(journal, accept, belongs)
+    have = {(r.get("key"), r.get("record_id")) for _, _, r in s.records}
+    for a, b, r in scan(mirror, accept, belongs).records:
+        if (r.get("key"), r.get("record_id")) not in have:
+            have.add((r.get("key"), r.get("record_id")))
+            s.records.append((a, b, r))
+    return s
+
+
 def read(path: str, accept=None, belongs=None) -> tuple[list, Scan]:
-    """(records, scan) of a journal; a one-line warning is logged when something is not intact.
-    Read-only: a reader never changes the journal (the writer quarantines)."""
-    s = scan(read_bytes(path), accept, belongs)
+    """(records, scan) of a journal and its mirror (:func:`scan_pair`); a one-line warning is
+    logged when something is not intact. Read-only: a reader never changes the journal (the
+    writer quarantines)."""
+    s = scan_pair(path, accept, belongs)
     msg = s.message(path)
     if msg:
         log.warning("%s", msg)
     return [r for _, _, r in s.records], s
-
-
-# --------------------------------------------------------------------------- writing
-def _write_all(fd: int, data: bytes) -> None:
-    view = memoryview(data)
-    while view:
-        view = view[os.write(fd, view):]
-
-
-class JournalWriter:
-    """Appends records durably (one ``write`` + ``fsync`` per record).
-
-    On opening, a journal that is not entirely intact is repaired without losing anything: the
-    damaged, foreign and old-format stretches are appended to ``<journal>.quarantine`` (with a
-    one-line warning naming it) and the journal is rewritten (temporary file + rename) with the
-    intact frames only. ``replayed`` holds the intact records of the accepted campaigns.
-    """
-
-    def __init__(self, path: str, accept=None, belongs=None):
-        self.path = path
-        data = read_bytes(path)
-        s = scan(data, accept, belongs)
-        self.scan = s
-        self.replayed = [r for _, _, r in s.records]
-        if not s.clean:
-            self._repair(data, s)
-        self._fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
-
-    def _repair(self, data: bytes, s: Scan) -> None:
-        qpath = quarantine_path(self.path)
-        bad = sorted(s.damaged + s.old + s.foreign + s.outside + s.unverified
-                     + ([s.torn] if s.torn else []))
-        with open(qpath, "ab") as q:
-            q.writelines(data[a:b] for a, b in bad)
-            q.flush()
-            os.fsync(q.fileno())
-        tmp = self.path + ".rewrite"
-        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
-        try:
-            _write_all(fd, b"".join(data[a:b] for a, b, _ in s.records))
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-        os.replace(tmp, self.path)
-        msg = s.message(self.path)
-        moved = sum(b - a for a, b in bad)
-        if msg:
-            log.warning("%s; %d byte(s) moved to %s", msg, moved, qpath)
-        else:        # only the unfinished frame of a killed writer (its job is recomputed)
-            log.info("journal %s: an unfinished last frame (%d bytes) moved to %s", self.path,
-                     moved, qpath)
-
-    def append(self, record: dict) -> None:
-        """Append one frame holding ``record`` (sealed with its checksum by the caller: a frame
-        without one is never counted) and ``fsync``; on failure (a full disk) the torn frame is cut off
-        again where possible and the ``OSError`` propagates."""
-        data = encode(record)
-        size = os.fstat(self._fd).st_size
-        try:
-            _write_all(self._fd, data)
-            os.fsync(self._fd)
-        except OSError:
-            try:
-                os.ftruncate(self._fd, size)
-            except OSError:  # pragma: no cover - the reader resynchronises past a torn frame
-                pass
-            raise
-
-    def reset(self) -> None:
-        """Empty the journal (after its records are safely in the HDF5 file). A failure is
-        harmless: replaying records that are already in the file changes nothing."""
-        try:
-            os.ftruncate(self._fd, 0)
-            os.fsync(self._fd)
-        except OSError as exc:
-            log.info("could not empty %s (%s); its records are replayed harmlessly", self.path,
-                     exc)
-
-    def close(self) -> None:
-        """Close the journal file (idempotent)."""
-        if self._fd is not None:
-            os.close(self._fd)
-            self._fd = None

@@ -27,10 +27,13 @@ Layout (open it with h5py; every number is dimensionless, see the ``definitions`
 
 Crash safety: the published file is never opened for writing. A checkpoint reads it, adds the
 records to that image in memory (libhdf5 never writes to the disk), checks the free space,
-writes a temporary file beside it, ``fsync``-s and renames it into place; records finished since
-the last checkpoint live in ``<file>.journal`` (see :mod:`fibril_hpc.campaign.storage.journal`). So a
-SIGKILL at any moment leaves a file that opens, plus a journal that the next run (or reader)
-replays, and a full disk leaves the previous file. Readers never block the writer.
+writes a temporary file beside it, ``fsync``-s it, reads it back and verifies it, keeps the old
+file as ``<file>.previous`` and renames the new one into place; records finished since the last
+checkpoint live in ``<file>.journal`` and its mirror ``<file>.journal.mirror`` (see
+:mod:`fibril_hpc.campaign.storage.durable`). So a SIGKILL at any moment leaves a file that opens,
+plus a journal that the next run (or reader) replays, a full disk leaves the previous file, and
+no single damaged or deleted file loses a finished record while the campaign runs (the journal
+pair and ``<file>.previous`` are removed when it finishes). Readers never block the writer.
 """
 
 from __future__ import annotations
@@ -47,19 +50,19 @@ import h5py
 import numpy as np
 
 from ..._version import __version__
-from ...errors import StoreError
+from ...errors import ConfigError, StoreError
 from ...geometry.grid import Lattice
 from ...io import h5check
-from ...io.files import write_bytes_atomically
 from ...io.results import json_safe, software_versions
 from ..plan.keys import KEY_EXCLUDED_SOLVER
-from . import integrity
+from . import durable, integrity
 from . import journal as _journal
 from .h5read import (
     FORMAT_VERSION,
     PROGRAM,
     REFS,
     H5Read,
+    check_written,
     damaged_error,
     read_h5_checked,
     read_h5_records,
@@ -69,6 +72,7 @@ from .h5read import (
     warn_corrupt,
 )
 from .record import BRANCHES, CURVE_KEYS, OPTIONAL_CURVE_KEYS, SCALAR_KEYS
+from .rootcheck import ROOT_LOST
 
 log = logging.getLogger(__name__)
 
@@ -140,10 +144,12 @@ def read_snapshot(path: str, curves: bool = True) -> Snapshot:
     """Journal + HDF5 file, as a reader sees them while a campaign runs. The journal bytes are
     read first so that a checkpoint that happens in between cannot hide a record. Journal
     frames of another campaign, or whose key is no job of the file's grids, are left out."""
-    jdata = _journal.read_bytes(_journal.journal_path(path))
+    jpath = _journal.journal_path(path)
+    jdata = _journal.read_bytes(jpath), _journal.read_bytes(_journal.mirror_path(jpath))
     got = read_h5_checked(path, curves)
     warn_corrupt(path, got)
-    scan = _journal.scan(jdata, accepted_hashes(got.root), got.index.belongs)
+    scan = _journal.scan_bytes(*jdata, accept=accepted_hashes(got.root),
+                               belongs=got.index.belongs)
     msg = scan.message(_journal.journal_path(path))
     if msg:
         log.warning("%s", msg)
@@ -204,22 +210,28 @@ def write_record(jobs, rec: dict, sign: bool = True) -> None:
 def clean_temporaries(path: str) -> None:
     """Remove checkpoint temporaries left by a killed writer (call while holding the lock)."""
     folder = os.path.dirname(os.path.abspath(path)) or "."
-    for tmp in glob.glob(os.path.join(folder, "." + os.path.basename(path) + ".ckpt-*")):
+    for tmp in glob.glob(os.path.join(folder, glob.escape(durable.tmp_prefix(path)) + "*")):
         try:
             os.unlink(tmp)
         except OSError:  # pragma: no cover
             pass
 
 
-def checkpoint(path: str, root_attrs: dict, records, drop=(), unsigned=()) -> None:
+def checkpoint(path: str, root_attrs: dict, records, drop=(), unsigned=(), verify=None,
+               keep_previous: bool = False, exclusive: str | None = None) -> None:
     """Publish ``records`` into ``path`` atomically, leaving out the job groups ``drop``
     (corrupt ones: never republished); the records whose key is in ``unsigned`` are written
-    without a new checksum (see :func:`write_record`).
+    without a new checksum (see :func:`write_record`). ``verify`` and ``keep_previous``: see
+    :func:`.durable.publish` (the campaign writer reads the new copy back before publishing it,
+    and keeps the old file as ``<file>.previous``). ``exclusive``: the option naming a
+    ``path`` that must be new (see :func:`fibril_hpc.io.files.write_bytes_atomically`).
 
     The new file is built in memory (libhdf5 never writes to disk, so a full disk cannot crash
     it), then written to a temporary file beside ``path`` after a free-space check, ``fsync``-ed
-    and renamed into place. ``root_attrs`` are (re)set; the file's other content is kept.
-    ENOSPC/EDQUOT becomes :class:`DiskFull`.
+    and renamed into place. ``root_attrs`` are (re)set; the file's other content is kept. A file
+    whose records read but whose structure libhdf5 cannot add to (a damaged block elsewhere) is
+    rebuilt from what reads and verifies (:func:`_rebuild`): its corrupt records are left out,
+    to be recomputed. ENOSPC/EDQUOT becomes :class:`DiskFull`.
     """
     buf = io.BytesIO()
     try:
@@ -230,24 +242,55 @@ def checkpoint(path: str, root_attrs: dict, records, drop=(), unsigned=()) -> No
     except OSError as exc:
         raise StoreError(f"cannot read {path} for a checkpoint: {exc}") from None
     try:
-        with h5py.File(buf, mode) as fh:
-            if mode == "w":
-                fh.attrs["created"] = now()
-                fh.attrs["program"] = PROGRAM
-            jobs = fh.require_group("jobs")
-            for key in drop:
-                if key in jobs:
-                    del jobs[key]
-            for rec in records:
-                write_record(jobs, rec, sign=rec["key"] not in unsigned)
-            _write_references(fh, jobs)
-            for k, v in root_attrs.items():
-                fh.attrs[k] = v
-            fh.attrs["updated"] = now()
+        _add(buf, mode, root_attrs, records, drop, unsigned)
     except (OSError, RuntimeError, KeyError, ValueError) as exc:
-        raise damaged_error(path, exc) from None
-    write_bytes_atomically(path, buf.getbuffer(), "checkpoint copy",
-                           "." + os.path.basename(path) + ".ckpt-")
+        if mode != "a":
+            raise damaged_error(path, exc) from None
+        buf = _rebuild(path, root_attrs, records, drop, unsigned, exc)
+    durable.publish(path, buf.getbuffer(), verify, keep_previous, exclusive=exclusive)
+
+
+def _add(buf, mode: str, root_attrs: dict, records, drop=(), unsigned=(), old=()) -> None:
+    """Add ``records`` (and ``old`` ones, copied with the checksum they have) to the HDF5 image
+    in ``buf``; see :func:`checkpoint`."""
+    with h5py.File(buf, mode) as fh:
+        if mode == "w":
+            fh.attrs["created"] = now()
+            fh.attrs["program"] = PROGRAM
+        jobs = fh.require_group("jobs")
+        for key in drop:
+            if key in jobs:
+                del jobs[key]
+        for rec in old:
+            write_record(jobs, rec, sign=False)
+        for rec in records:
+            write_record(jobs, rec, sign=rec["key"] not in unsigned)
+        _write_references(fh, jobs)
+        for k, v in root_attrs.items():
+            fh.attrs[k] = v
+        if "campaign_yaml" in root_attrs and ROOT_LOST in fh.attrs:   # written again whole
+            del fh.attrs[ROOT_LOST]
+        fh.attrs["updated"] = now()
+
+
+def _rebuild(path: str, root_attrs: dict, records, drop, unsigned, exc) -> io.BytesIO:
+    """A new image of ``path`` holding every record of it that reads and verifies (or is
+    unchecked), each with the checksum it has, its other root attributes, and ``records``: what
+    a checkpoint publishes when libhdf5 cannot add to the damaged file itself. A file whose
+    structure does not read at all is :class:`DamagedFileError` (``salvage`` it)."""
+    got = read_h5_checked(path, curves=True)
+    new = {r["key"] for r in records}
+    log.warning("%s: its HDF5 structure could not be added to (%s); rebuilt from the %d "
+                "record(s) that read and verify, %d corrupt left out to be recomputed", path,
+                type(exc).__name__, len(got.records), len(got.corrupt))
+    keep = {k: v for k, v in got.root.items() if k not in root_attrs and k != "updated"}
+    buf = io.BytesIO()
+    try:
+        _add(buf, "w", {**keep, **root_attrs}, records, unsigned=unsigned,
+             old=[r for k, r in got.records.items() if k not in new and k not in drop])
+    except (OSError, RuntimeError, KeyError, ValueError) as err:
+        raise damaged_error(path, err) from None
+    return buf
 
 
 def root_attrs_for(spec, extended_from=None) -> dict:
@@ -277,15 +320,18 @@ def root_attrs_for(spec, extended_from=None) -> dict:
     }
 
 
-def write_merged(path: str, root_attrs: dict, records, unsigned=()) -> None:
+def write_merged(path: str, root_attrs: dict, records, unsigned=(), field: str = "--output") \
+        -> None:
     """Write a new file (atomically) holding ``records`` (used by ``merge`` and ``salvage``);
-    the records of ``unsigned`` keep having no checksum."""
-    if os.path.exists(path):
-        raise StoreError(f"{path} exists; choose a new output name")
-    checkpoint(path, root_attrs, records, unsigned=unsigned)
+    the records of ``unsigned`` keep having no checksum. ``path`` must be new, checked
+    atomically as it is written (a file that appeared meanwhile: ConfigError naming
+    ``field``)."""
+    if os.path.lexists(path):
+        raise ConfigError(field, path, "a new file name (it exists)")
+    checkpoint(path, root_attrs, records, unsigned=unsigned, exclusive=field)
 
 
 __all__ = ["read_root", "read_records", "read_h5_records", "read_h5_checked", "read_h5_salvage",
            "read_snapshot", "checkpoint", "root_attrs_for", "write_merged", "write_record",
-           "clean_temporaries", "newer", "accepted_hashes", "H5Read",
+           "clean_temporaries", "newer", "accepted_hashes", "H5Read", "check_written",
            "Snapshot", "PROGRAM", "REFS", "FORMAT_VERSION", "root_whole"]

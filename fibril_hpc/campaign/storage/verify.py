@@ -30,9 +30,10 @@ from collections import Counter
 from dataclasses import dataclass, field
 
 from ...errors import ConfigError, DamagedFileError, StoreError, UnknownLayoutError
+from . import durable, store
 from . import journal as _journal
-from . import store
 from .grids import GridIndex
+from .rootcheck import repair, root_problem
 
 
 @dataclass
@@ -47,12 +48,14 @@ class Verdict:
     in_journal: int = 0
     journal_problem: str = ""
     damaged: str = ""                                   # the HDF5 structure cannot be read
+    #: what is wrong with the root attributes a reader relies on (see :mod:`.rootcheck`)
+    root_problem: str = ""
 
     @property
     def clean(self) -> bool:
         """Whether every record is vouched for: nothing damaged, unchecked or foreign."""
         return not (self.corrupt or self.foreign or self.unchecked or self.journal_problem
-                    or self.damaged)
+                    or self.damaged or self.root_problem)
 
     def lines(self) -> list:
         """The report, one line per finding."""
@@ -61,6 +64,9 @@ class Verdict:
         out = [f"{self.path}: {self.ok} record(s) verified, {len(self.corrupt)} corrupt, "
                f"{self.unchecked} unchecked (no checksum), {len(self.foreign)} foreign, "
                f"{self.in_journal} in the journal"]
+        if self.root_problem:
+            out.append(f"  root attributes damaged: {self.root_problem}; repair: "
+                       f"{repair(self.path)}")
         for k, why in sorted(self.corrupt.items()):
             out.append(f"  corrupt {k}: {why} (left out by every reader; resume recomputes it)")
         for k, why in sorted(self.foreign.items()):
@@ -84,13 +90,20 @@ def verify_file(path: str) -> Verdict:
     except DamagedFileError as exc:
         v.damaged = str(exc)
         return v
+    except UnknownLayoutError:
+        raise
+    except StoreError as exc:         # e.g. a flipped byte in the root's program attribute
+        v.damaged = (f"{exc}; if it is a damaged campaign file, "
+                     f"`fibril-campaign salvage {path} -o NEW.h5` copies every record that "
+                     "reads and verifies")
+        return v
+    v.root_problem = root_problem(got.root)
     v.corrupt = dict(got.corrupt)
     v.foreign = dict(got.foreign)
     v.unchecked = got.unchecked
     v.ok = len(got.records) - got.unchecked
     jpath = _journal.journal_path(path)
-    scan = _journal.scan(_journal.read_bytes(jpath), store.accepted_hashes(got.root),
-                         got.index.belongs)
+    scan = _journal.scan_pair(jpath, store.accepted_hashes(got.root), got.index.belongs)
     v.in_journal = len(scan.records)
     v.journal_problem = scan.message(jpath)
     return v
@@ -99,14 +112,14 @@ def verify_file(path: str) -> Verdict:
 def salvage_file(path: str, output: str, keep_unchecked: bool = False) -> dict:
     """Copy every readable, verified record of ``path`` (and its journal) into the new file
     ``output``. Returns counts: copied, corrupt, unchecked_left_out, from_journal."""
-    if os.path.exists(output):
-        raise StoreError(f"{output} exists; choose a new output name")
-    try:
-        got = store.read_h5_checked(path, curves=True)
-    except UnknownLayoutError:
-        raise
-    except StoreError:                 # damaged, cut short, overwritten, or its root is
-        got = store.read_h5_salvage(path)      # damaged: whatever still reads and verifies
+    if os.path.lexists(output):
+        raise ConfigError("--output", output, "a new file name (it exists)")
+    got = _read_any(path)
+    prev = _read_any(durable.previous_path(path)) if os.path.exists(
+        durable.previous_path(path)) else store.H5Read()
+    if not store.root_whole(got.root) and store.root_whole(prev.root):
+        got.root = prev.root          # the previous generation's root, whole: the grid
+        got.index = prev.index
     whole = store.root_whole(got.root)
     root = dict(got.root) if whole else {}
     recs = {}
@@ -116,10 +129,16 @@ def salvage_file(path: str, output: str, keep_unchecked: bool = False) -> dict:
             left_unchecked += 1
             continue
         recs[k] = r
+    for k, r in prev.records.items():     # the generation before the last checkpoint
+        if (k not in prev.unchecked_keys or keep_unchecked) and store.newer(r, recs.get(k)):
+            recs[k] = r
+            got.corrupt.pop(k, None)
+            if k in prev.unchecked_keys:
+                got.unchecked_keys.add(k)
     # a lost root names no grid: a frame belongs by its own stored scene (see GridIndex)
     index = got.index if whole else GridIndex.of_root({}, trusted=False)
-    scan = _journal.scan(_journal.read_bytes(_journal.journal_path(path)),
-                         store.accepted_hashes(root) if whole else None, index.belongs)
+    scan = _journal.scan_pair(_journal.journal_path(path),
+                              store.accepted_hashes(root) if whole else None, index.belongs)
     if not whole:
         if not (recs or scan.records or got.corrupt):
             raise ConfigError("file", path, "a campaign file, or what is left of one (no record "
@@ -143,6 +162,17 @@ def salvage_file(path: str, output: str, keep_unchecked: bool = False) -> dict:
     store.write_merged(output, root, list(recs.values()), unsigned=unsigned)
     return {"copied": len(recs), "corrupt": len(got.corrupt), "foreign": len(got.foreign),
             "unchecked_left_out": left_unchecked, "from_journal": from_journal}
+
+
+def _read_any(path: str) -> store.H5Read:
+    """Every record of ``path`` that reads and verifies (checked; tolerant when it is damaged,
+    cut short, overwritten or its root is damaged). A newer layout is refused."""
+    try:
+        return store.read_h5_checked(path, curves=True)
+    except UnknownLayoutError:
+        raise
+    except StoreError:
+        return store.read_h5_salvage(path)
 
 
 def _lost_root(damaged: dict, recs: dict, scan) -> dict:

@@ -1,8 +1,16 @@
 """The only writer of a campaign file: :class:`CampaignWriter`.
 
 It holds the lock, checks that the file belongs to this grid, replays the journal of a killed
-run, appends each finished record to the journal and folds the journal into the HDF5 file at
-checkpoints (see :mod:`.store` and :mod:`.journal`).
+run, appends each finished record to the journal and its mirror and folds them into the HDF5
+file at checkpoints (see :mod:`.store`, :mod:`.journal` and :mod:`.durable`).
+
+Two copies of every finished record at every moment of a run: the journal and its mirror
+from the moment it finishes; the published file and the journal pair after the checkpoint
+that publishes it (the pair is trimmed to that checkpoint's records only once the new file read
+back whole); the published file and ``<file>.previous`` (the generation before) after the next
+one. A run that starts on an existing file first copies it to ``<file>.previous``. When the run
+finishes and the last checkpoint read back whole, the journal pair and ``<file>.previous`` are
+removed: a finished campaign is its HDF5 file alone.
 """
 
 from __future__ import annotations
@@ -16,14 +24,17 @@ import time
 from ...errors import (
     FULL_ERRNOS,
     ConfigError,
+    DamagedFileError,
     DiskFull,
     PublishedFileChanged,
     StoreError,
 )
 from ...io.files import check_writable
-from . import integrity, store
+from . import durable, integrity, store
 from . import journal as _journal
+from .journal_writer import JournalWriter
 from .record import layout_problem
+from .rootcheck import repair, root_problem
 
 log = logging.getLogger(__name__)
 
@@ -57,6 +68,12 @@ def check_output(spec, extend: bool = False) -> list:
         try:
             root = store.read_root(path)
         except StoreError as exc:
+            if has_second_copies(path):     # a campaign file damaged: its copies are here
+                raise ConfigError(
+                    "output", path, f"a campaign file that reads ({str(exc).split('; ')[0]}); "
+                    "its journal or previous generation is beside it: recover every record "
+                    f"with `fibril-campaign salvage {path} -o NEW.h5`, then rerun with "
+                    "--output NEW.h5") from None
             raise ConfigError("output", path,
                               f"a fibril-hpc campaign file or a new name ({exc})") from None
         prev = root.get("campaign_hash")
@@ -66,6 +83,11 @@ def check_output(spec, extend: bool = False) -> list:
         except ValueError:
             history = []
         if prev != spec.campaign_hash:
+            damaged = root_problem(root)
+            if damaged:                # not another grid: a damaged root (--extend repairs
+                raise ConfigError(     # nothing)
+                    "output", path, f"a campaign file whose root reads whole: {damaged}; "
+                    f"recover with {repair(path)}")
             if not extend:
                 raise ConfigError(
                     "output", path,
@@ -74,6 +96,13 @@ def check_output(spec, extend: bool = False) -> list:
                     "this grid's jobs to it, or choose another output")
             history.append({"campaign_hash": prev, "campaign_yaml": root.get("campaign_yaml")})
         return history
+    previous = durable.previous_path(path)
+    if os.path.exists(previous):
+        raise ConfigError("output", path,
+                          f"a campaign file that exists (it is missing, but its previous "
+                          f"generation {previous} is here); recover every record with "
+                          f"`fibril-campaign salvage {path} -o NEW.h5`, then rerun with "
+                          "--output NEW.h5")
     jrecs, _ = _journal.read(_journal.journal_path(path))
     hashes = {r.get("campaign_hash") for r in jrecs if r.get("type") == "job"}
     other = hashes - {spec.campaign_hash} if hashes else set()   # the hash sorts every key
@@ -82,6 +111,14 @@ def check_output(spec, extend: bool = False) -> list:
                           "a file of this grid: its journal holds records of another grid; "
                           "pass --extend to keep them")
     return []
+
+
+def has_second_copies(path: str) -> bool:
+    """Whether the campaign file ``path`` has a journal, its mirror or a previous generation
+    beside it (what ``salvage`` takes besides the file)."""
+    jpath = _journal.journal_path(path)
+    return any(os.path.isfile(p) and os.path.getsize(p) > 0
+               for p in (jpath, _journal.mirror_path(jpath), durable.previous_path(path)))
 
 
 class CampaignWriter:
@@ -122,7 +159,10 @@ class CampaignWriter:
         except BaseException:
             if getattr(self, "journal", None) is not None:
                 self.journal.close()
-            self._unlock()
+            for side in (_journal.journal_path(self.path),        # a refused run leaves
+                         _journal.mirror_path(_journal.journal_path(self.path))):   # nothing
+                _remove_if_empty(side)
+            self._unlock(remove=True)
             raise
 
     def _open(self, spec, extend, extended_from):
@@ -147,7 +187,7 @@ class CampaignWriter:
                 return not layout_problem(rec)
         jpath = _journal.journal_path(self.path)
         try:
-            self.journal = _journal.JournalWriter(jpath, accept, belongs)
+            self.journal = JournalWriter(jpath, accept, belongs)
         except OSError as exc:            # e.g. no room to quarantine a damaged stretch
             if exc.errno in FULL_ERRNOS:
                 raise DiskFull(jpath, "opening the journal", exc.strerror) from None
@@ -163,8 +203,16 @@ class CampaignWriter:
         self._seen = _fingerprint(self.path)
         # publishes the replayed journal and drops the corrupt records (or fails: one line);
         # a finished file with nothing to add is left untouched (bitwise)
-        if self._unpublished or self.corrupt or not os.path.exists(self.path):
+        if (self._unpublished or self.corrupt or not os.path.exists(self.path)
+                or root_problem(got.root)):          # a damaged root is written again
             self.checkpoint(force=True)
+        else:                      # the file's records get their second copy before any work
+            try:
+                durable.keep_copy(self.path)
+            except StoreError as exc:
+                if isinstance(exc, DiskFull):
+                    raise
+                raise StoreError(f"cannot keep a copy of {self.path}: {exc}") from None
         if corrupt:
             log.warning("%s: %d corrupt record(s) (%s%s) will be recomputed; they were not "
                         "republished", self.path, len(corrupt), ", ".join(corrupt[:3]),
@@ -227,10 +275,20 @@ class CampaignWriter:
             r.pop("type", None)
             recs.append(r)
         t0 = time.monotonic()
-        store.checkpoint(self.path, self.root_attrs, recs, drop=self.corrupt)
+        expect = {k: r["record_id"] for k, r in self.records.items()}
+        try:
+            store.checkpoint(self.path, self.root_attrs, recs, drop=self.corrupt,
+                             verify=_verifier(expect, [r["key"] for r in recs]),
+                             keep_previous=True)
+        except DamagedFileError as exc:
+            if _fingerprint(self.path) == self._seen:      # damaged before this run: salvage
+                raise
+            self._changed(f"no longer reads: {str(exc)[:120]}")   # changed just now
         self._seen = _fingerprint(self.path)
         self.corrupt = set()
-        self.journal.reset()
+        # the previous generation holds what was published before: the journal pair keeps
+        # this checkpoint's records only (their other copy is the file just published)
+        self.journal.keep(r["record_id"] for r in self._unpublished)
         self._unpublished = []
         self._last_ckpt = time.monotonic()
         # a checkpoint copies the file: keep its cost below ~10 % of the run however big it gets
@@ -252,11 +310,16 @@ class CampaignWriter:
             self.checkpoint(force=bool(self._unpublished or self.corrupt))
             if self.changed is not None:
                 raise self.changed
+            if _fingerprint(self.path) != self._seen:       # never drop the second copies
+                now = _fingerprint(self.path)               # of a file changed under us
+                self._changed("size " + ("gone" if now is None else f"{now[2]} bytes"))
             published = True
         finally:
-            self.journal.close()
             if published:
-                _remove_if_empty(self.journal.path)
+                self.journal.remove()
+                durable.remove_previous(self.path)
+            else:
+                self.journal.close()
             self._unlock(remove=published)
 
     def _unlock(self, remove: bool = False) -> None:
@@ -269,6 +332,15 @@ class CampaignWriter:
         finally:
             os.close(self._lock_fd)
             self._lock_fd = None
+
+
+def _verifier(expect: dict, added):
+    """A check of a new checkpoint copy: every record of ``expect`` ({key: record_id}) is in
+    it, and the records ``added`` read whole and verify ("" when so, else what is wrong)."""
+
+    def verify(tmp: str) -> str:
+        return store.check_written(tmp, expect, added)
+    return verify
 
 
 def _fingerprint(path: str):
@@ -305,4 +377,4 @@ def _remove_if_empty(path: str) -> None:
         pass
 
 
-__all__ = ["CampaignWriter", "check_output"]
+__all__ = ["CampaignWriter", "check_output", "has_second_copies"]
