@@ -31,7 +31,7 @@ from .common import OUT_OF_MEMORY, error, interruptible, pipe_safe, setup_loggin
 
 @pipe_safe
 @interruptible(PROG, "files are written whole or not at all; rerun the same command (a run "
-               "resumes)")         # a run handles its own stop signals (campaign.run.control)
+               "resumes)", EXIT_INTERRUPTED)   # a run handles its own stop signals (run.control)
 def main(argv=None) -> int:
     """``fibril-campaign``; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
