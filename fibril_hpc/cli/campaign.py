@@ -80,6 +80,8 @@ def cmd_run(args) -> int:
     from ..campaign.plan.spec import load_spec
     from ..campaign.run.launcher import connect
 
+    if args.grid is None:
+        raise ConfigError("grid", None, "a grid YAML file (fibril-campaign grid.yaml)")
     for name in ("checkpoint_s", "grace_s"):
         v = getattr(args, name)
         if not (v >= 0 and v < 1e7):
@@ -149,7 +151,8 @@ def _print_plan(spec, retry_failed: bool) -> None:
     sizes = "" if len(spec.n_sides) < 2 else (
         f"n_side {', '.join(map(str, spec.n_sides))}; the largest: ")
     print(f"grid: {sizes}{spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "
-          f"{pl.elements_per_pillar} elements per pillar, {pl.fft_pair_s * 1e3:.3f} ms per FFT "
+          f"{pl.elements_per_diameter:.2f} elements per pillar diameter ({pl.elements_per_pillar} in "
+          f"a pillar's footprint), {pl.fft_pair_s * 1e3:.3f} ms per FFT "
           f"pair with {spec.base.solver.threads} thread(s)")
     est = pl.estimate_s
     print(f"estimated cost ({pl.how}): {est / 3600:.3g} core-hours "

@@ -6,6 +6,7 @@ are safe while a campaign runs.
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 
@@ -115,9 +116,16 @@ class Plan:
     sizes: dict
     fft_pair_s: float
     fft_size: int
+    #: elements in one pillar's footprint (an area count)
     elements_per_pillar: int
     estimate_s: float
     how: str
+
+    @property
+    def elements_per_diameter(self) -> float:
+        """Elements per pillar diameter, the presets' measure of resolution: the diameter of the
+        discretised footprint's equal-area circle over the element side (as ``fibril-run``)."""
+        return 2.0 * math.sqrt(self.elements_per_pillar / math.pi)
 
 
 def plan(spec, retry_failed: bool = False) -> Plan:
