@@ -121,6 +121,7 @@ def test_no_did_you_mean_when_nothing_is_close_and_scene_fields_belong_under_sce
         _spec(n_side=4)
 
 
+@pytest.mark.slow
 def test_cli_usage_errors_exit_2(tmp_path):
     for args in ([], ["report", "x.h5"], ["status", str(tmp_path / "none.h5")],
                  ["export", str(tmp_path / "none.h5"), "--csv", "o.csv"], ["run", "--bogus"],
