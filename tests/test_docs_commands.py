@@ -79,7 +79,7 @@ def test_the_skip_list_matches_the_pages():
                 else:
                     counts[p] += 1
     assert counts == {p: v[0] for p, v in SKIP.items()}
-    assert runs > 30
+    assert runs >= 25
 
 
 @pytest.fixture(scope="module")

@@ -128,6 +128,7 @@ def cmd_run(args) -> int:
 
 def _print_plan(spec, retry_failed: bool) -> None:
     from ..campaign.analysis.status import plan, search_cost_line, search_plan_line
+    from ..campaign.plan.estimate import AUTO_LATER_TASKS
 
     pl = plan(spec, retry_failed)
     swept = "".join(f" x {len(v)} sweep.{k}" for k, v in spec.sweep.items())
@@ -145,7 +146,7 @@ def _print_plan(spec, retry_failed: bool) -> None:
               f"{len(spec.seeds)} seeds{swept}); round 0: F_P = "
               f"{', '.join(f'{x:g}' for x in a.start)}; "
               f"up to {a.rounds - 1} more rounds until {a.below} preloads lie below the kink and "
-              f"{a.above} above it (the counts and cost below are round 0's)")
+              f"{a.above} above it (the counts below are round 0's)")
     print(f"output {spec.output}: {pl.done} done, {pl.failed} failed, {len(pl.to_run)} to run "
           f"in {pl.n_tasks} simulate calls")
     sizes = "" if len(spec.n_sides) < 2 else (
@@ -157,9 +158,15 @@ def _print_plan(spec, retry_failed: bool) -> None:
     est = pl.estimate_s
     print(f"estimated cost ({pl.how}): {est / 3600:.3g} core-hours "
           f"x {spec.base.solver.threads} thread(s) per rank "
-          f"(~{est / 60:.3g} min on one rank)")
+          f"(~{est / 60:.3g} min on one rank)"
+          + (" for round 0" if spec.auto is not None else ""))
+    if pl.later_s:
+        tot = est + pl.later_s
+        print(f"with the later F_P auto rounds (expected: {AUTO_LATER_TASKS:g} more loading paths "
+              f"per path, measured): about {tot / 3600:.3g} core-hours (~{tot / 60:.3g} min on "
+              "one rank)")
     if spec.search and pl.n_tasks:
-        print(search_cost_line(spec, est / pl.n_tasks))
+        print(search_cost_line(spec, (est + pl.later_s) / pl.n_tasks))
 
 
 # ------------------------------------------------------------------------------------ status
