@@ -74,3 +74,14 @@ def test_griffe_is_in_the_test_extra():
     with open(os.path.join(ROOT, "pyproject.toml"), "rb") as fh:
         extras = tomllib.load(fh)["project"]["optional-dependencies"]
     assert any(r.split(">")[0].split("=")[0] in ("griffe", "griffelib") for r in extras["test"])
+
+
+def test_readme_is_a_short_undated_guide():
+    """README stays a user's guide under 10 000 characters with no dates (dated measurements
+    live in benchmarks/NOTES.md)."""
+    import re
+
+    with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as fh:
+        text = fh.read()
+    assert len(text) < 10_000, len(text)
+    assert not re.search(r"\b20\d\d-\d\d-\d\d\b", text)
