@@ -73,6 +73,7 @@ def _lines(spec, done):
     return {line: search.replay_line(spec, line, done, {}) for line in spec.lines()}
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(loss=st.floats(0.06, 3.0))
 def test_the_search_brackets_a_known_loss_within_its_bracket(loss):
@@ -90,6 +91,7 @@ def test_the_search_brackets_a_known_loss_within_its_bracket(loss):
     assert not ln.limit_hit and ln.finished
 
 
+@pytest.mark.slow
 def test_the_search_extends_past_its_start_range_both_ways():
     spec = _spec()
     hi_line = _lines(spec, drive(spec, Truth(9.0, alpha=3, beta=0)))[(1.0,)]   # beyond 3.2
@@ -104,6 +106,7 @@ def test_the_search_extends_past_its_start_range_both_ways():
     assert all(g.state != LOST for g in never.groups.values())
 
 
+@pytest.mark.slow
 @settings(max_examples=5, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2**32 - 1))
 def test_the_choices_do_not_depend_on_the_order_paths_finish_in(seed):

@@ -74,6 +74,7 @@ def test_merged_shards_equal_a_serial_run(tmp_path):
     assert main([grid, "--output", merged, "--no-progress"]) == 0   # nothing left to run
 
 
+@pytest.mark.slow
 def test_auto_shards_keep_every_round_of_a_path(tmp_path):
     grid = write_grid(tmp_path, AUTO)
     assert main([grid, "--no-progress"]) == 0

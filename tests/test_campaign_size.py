@@ -371,6 +371,7 @@ def test_a_record_without_a_stored_scene_gets_its_size_from_its_key(tmp_path, pr
     assert sorted(set(by_key.values())) == [4, 8, 16]
 
 
+@pytest.mark.slow
 def test_a_grid_without_the_size_sweep_gets_no_finite_size_section(tmp_path):
     grid = {k: v for k, v in REPORT_GRID.items() if k != "sweep"}
     path = _synthetic(tmp_path, dict(grid, scene={"preset": "fast", "n_side": 8}))

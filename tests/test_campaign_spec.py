@@ -121,6 +121,7 @@ def test_no_did_you_mean_when_nothing_is_close_and_scene_fields_belong_under_sce
         _spec(n_side=4)
 
 
+@pytest.mark.slow
 def test_cli_usage_errors_exit_2(tmp_path):
     for args in ([], ["report", "x.h5"], ["status", str(tmp_path / "none.h5")],
                  ["export", str(tmp_path / "none.h5"), "--csv", "o.csv"], ["run", "--bogus"],
@@ -189,7 +190,7 @@ def test_dry_run_model_follows_preloads_preset_and_grid():
 
     one = Scene(F_P=(4.0,))
     # measured with the defaults (moments, direction to 100 x cg_tol; NOTES, issue 8): 2 968
-    # pairs, and 6 536 at the accurate preset (193 elements per pillar)
+    # pairs, and 6 536 at the accurate preset (193 elements in a pillar's footprint)
     assert task_pairs(one, 45) == pytest.approx(2968, rel=0.05)
     assert task_pairs(Scene(F_P=(4.0,), preset="accurate"), 193) == pytest.approx(6536, rel=0.05)
     assert task_pairs(Scene(F_P=(0.01, 4.0)), 45) > task_pairs(one, 45)

@@ -85,9 +85,9 @@ def _cpu_s(pid: int) -> float:
 
 
 @pytest.mark.skipif(not os.path.exists("/proc/self/stat"), reason="needs /proc (Linux)")
-def test_ctrl_c_on_fibril_run_is_one_line_and_75(tmp_path):
-    """Ctrl-C on fibril-run: one line and exit 75, as fibril-campaign gives, no traceback, no
-    --out file (half-written or not)."""
+def test_ctrl_c_on_fibril_run_is_one_line_and_130(tmp_path):
+    """Ctrl-C on fibril-run inside the simulation: one line and exit 130 (the shell's status for
+    SIGINT; a campaign's is 75), no traceback, no --out file (half-written or not)."""
     import signal
     import time
 
@@ -107,7 +107,7 @@ def test_ctrl_c_on_fibril_run_is_one_line_and_75(tmp_path):
         if p.poll() is None:
             p.kill()
             p.communicate()
-    assert p.returncode == 75, err
+    assert p.returncode == 130, err
     assert "Traceback" not in err and err.count("\n") == 1, err
     assert err.startswith("fibril-run: interrupted (SIGINT)")
     assert os.listdir(tmp_path) == []

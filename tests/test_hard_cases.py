@@ -114,6 +114,7 @@ def test_stiff_limit_is_the_rigid_result(flat_k_sweep):
     assert fa[0] / fa[1] - 1 == pytest.approx(0.0, abs=2e-3) and fa[0] > rigid
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("k_tilde", [0.01, math.inf])
 def test_seed_averaged_F_A_does_not_increase_with_roughness(k_tilde):
     sigmas = [0.0, 0.25, 0.5, 1.0, 2.0, 4.0]
@@ -286,6 +287,7 @@ def test_scale_invariance_over_decades(lam, k_tilde):
                                rtol=1e-5, atol=1e-6)
 
 
+@pytest.mark.slow
 def test_seed_reproducible_across_processes():
     """The same seed gives the same result in a fresh interpreter as in this one: to the last
     bits up to FFTW's run-time choices (plans made earlier in a process, buffer alignment change

@@ -82,6 +82,7 @@ def test_old_files_open_with_the_machine_fields_missing(tmp_path):
     assert fill_k_machine({"k_machine": 2.0, "scene_yaml": "k_machine: 0.5\n"})["k_machine"] == 2
 
 
+@pytest.mark.slow
 def test_report_shows_the_jump_off_beside_the_peak_when_the_machine_is_swept(tmp_path):
     from fibril_hpc.campaign.analysis.report import write_report
 

@@ -138,6 +138,7 @@ def test_example_output_must_be_new(tmp_path, capsys):
     assert mine.read_text() == "my grid\n"
 
 
+@pytest.mark.slow
 def test_report_folder_needs_force_and_never_replaces_a_campaign_file(tmp_path, finished,
                                                                      capsys):
     src = tmp_path / "c.h5"

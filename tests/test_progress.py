@@ -70,8 +70,15 @@ def test_campaign_bar_total_grows_with_auto_rounds():
     assert p.bar.bar.total == 18 and p.bar.bar.n == 6
     p.finish()
     out = term.getvalue()
-    assert "6/18" in out and "auto round" in out
+    assert "6/18" in out and "auto round" in out      # the rest cut at the terminal's width
     assert "1 failed" in out
+    log = io.StringIO()
+    p = Progress(10, 1, stream=log, every_s=0.0, growing=True)
+    p.update([{"status": "done"}], force=True)
+    assert " ETA >= " in log.getvalue() and "the ETA is a lower bound" in log.getvalue()
+    fixed = Progress(10, 1, stream=io.StringIO(), every_s=0.0)
+    fixed.update([{"status": "done"}])
+    assert " ETA >= " not in fixed.line() and "lower bound" not in fixed.line()
 
 
 def test_campaign_lines_when_not_a_terminal():

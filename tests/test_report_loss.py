@@ -37,6 +37,7 @@ def test_the_bracket_is_the_first_loss_above_a_group_holding_adhesion():
     assert m["bracket"] == (0.5, 1.0) and "not monotone" in m["note"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seeds", [3, 6])
 def test_the_measured_loss_lies_in_its_bracket_and_its_interval_holds_the_truth(seeds):
     held = 0
@@ -59,6 +60,7 @@ def test_the_measured_loss_lies_in_its_bracket_and_its_interval_holds_the_truth(
     assert held >= 3
 
 
+@pytest.mark.slow
 def test_a_law_whose_zero_lies_far_beyond_a_sharp_loss_is_flagged():
     for draw in range(3):
         # c = 4/sigma~ - 1 (zero at 4) but the plateau collapses to 2.5 pillars at sigma~ = 1

@@ -6,6 +6,7 @@ status and export without a crash."""
 import csv
 
 import numpy as np
+import pytest
 import yaml
 
 from fibril_hpc.campaign.analysis import seed_limits as sl
@@ -90,6 +91,7 @@ def test_the_page_says_which_group_hit_the_maximum():
     assert "stopped at" not in rows["0.4"][-1] and "stopped at" not in rows["0.6"][-1]
 
 
+@pytest.mark.slow
 def test_report_status_and_export_read_a_grid_whose_seeds_and_sigma_are_auto(tmp_path):
     from fibril_hpc.campaign.plan.spec import spec_from_dict
     from fibril_hpc.campaign.storage import store

@@ -124,6 +124,7 @@ def test_where_reads_another_variant(tmp_path, capsys):
     assert _csv(tmp_path / "api" / "plateau.csv") == _csv(out / "plateau.csv")
 
 
+@pytest.mark.slow
 def test_two_swept_fields_read_one_combination(tmp_path):
     grid = dict(GRID, k_tilde=[1.0], sweep={"lattice": ["square", "hexagonal"],
                                             "tip_radius": RADII})
@@ -139,6 +140,7 @@ def test_two_swept_fields_read_one_combination(tmp_path):
             ) in page
 
 
+@pytest.mark.slow
 def test_a_variant_is_read_from_the_stored_scene_without_the_grid(tmp_path):
     grid = dict(GRID, sweep={"lattice": ["square", "hexagonal"], "tip_radius": RADII})
     path = _synthetic(tmp_path, grid)
@@ -152,6 +154,7 @@ def test_a_variant_is_read_from_the_stored_scene_without_the_grid(tmp_path):
         assert job_variant(j, values, None) == want[j["key"]]
 
 
+@pytest.mark.slow
 def test_a_size_sweep_with_a_lab_sweep_reads_the_variant_at_every_size(tmp_path):
     grid = dict(GRID, k_tilde=[1.0], seeds=2, sweep={"n_side": [4, 8], "tip_radius": RADII})
     grid["scene"] = {k: v for k, v in GRID["scene"].items() if k != "n_side"}
@@ -187,6 +190,7 @@ def test_a_bad_where_is_one_line_exit_2_nothing_written(tmp_path, capsys, where,
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_where_on_a_grid_without_a_lab_sweep_is_refused(tmp_path, capsys):
     grid = {k: v for k, v in GRID.items() if k != "sweep"}
     path = _synthetic(tmp_path, grid)

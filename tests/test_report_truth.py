@@ -110,6 +110,7 @@ def test_the_seed_interval_of_c_holds_the_truth_at_the_rate_it_claims(n_seeds):
     assert _coverage(n_seeds, 60, np.random.default_rng(n_seeds)) >= 51 / 60
 
 
+@pytest.mark.slow
 def test_alpha_beta_and_sigma_c_of_a_law_campaign_with_lost_groups():
     alpha, beta = 2.0, 1.0                                 # sigma~_c = 2
     sigmas = (0.07, 0.164, 0.384, 0.898, 2.1, 4.9)

@@ -2,6 +2,6 @@
 
 import sys
 
-from .run import main
+from .entry import fibril_run
 
-sys.exit(main())
+sys.exit(fibril_run())

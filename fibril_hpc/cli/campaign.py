@@ -31,7 +31,7 @@ from .common import OUT_OF_MEMORY, error, interruptible, pipe_safe, setup_loggin
 
 @pipe_safe
 @interruptible(PROG, "files are written whole or not at all; rerun the same command (a run "
-               "resumes)")         # a run handles its own stop signals (campaign.run.control)
+               "resumes)", EXIT_INTERRUPTED)   # a run handles its own stop signals (run.control)
 def main(argv=None) -> int:
     """``fibril-campaign``; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -84,6 +84,8 @@ def cmd_run(args) -> int:
     from ..campaign.plan.spec import load_spec
     from ..campaign.run.launcher import connect
 
+    if args.grid is None:
+        raise ConfigError("grid", None, "a grid YAML file (fibril-campaign grid.yaml)")
     for name in ("checkpoint_s", "grace_s"):
         v = getattr(args, name)
         if not (v >= 0 and v < 1e7):
@@ -130,6 +132,7 @@ def cmd_run(args) -> int:
 
 def _print_plan(spec, retry_failed: bool) -> None:
     from ..campaign.analysis.status import plan, search_cost_line, search_plan_line
+    from ..campaign.plan.estimate import AUTO_LATER_TASKS
 
     pl = plan(spec, retry_failed)
     swept = "".join(f" x {len(v)} sweep.{k}" for k, v in spec.sweep.items())
@@ -147,20 +150,27 @@ def _print_plan(spec, retry_failed: bool) -> None:
               f"{len(spec.seeds)} seeds{swept}); round 0: F_P = "
               f"{', '.join(f'{x:g}' for x in a.start)}; "
               f"up to {a.rounds - 1} more rounds until {a.below} preloads lie below the kink and "
-              f"{a.above} above it (the counts and cost below are round 0's)")
+              f"{a.above} above it (the counts below are round 0's)")
     print(f"output {spec.output}: {pl.done} done, {pl.failed} failed, {len(pl.to_run)} to run "
           f"in {pl.n_tasks} simulate calls")
     sizes = "" if len(spec.n_sides) < 2 else (
         f"n_side {', '.join(map(str, spec.n_sides))}; the largest: ")
     print(f"grid: {sizes}{spec.base.n_side}x{spec.base.n_side} pillars, FFT {pl.fft_size}^2, "
-          f"{pl.elements_per_pillar} elements per pillar, {pl.fft_pair_s * 1e3:.3f} ms per FFT "
+          f"{pl.elements_per_diameter:.2f} elements per pillar diameter ({pl.elements_per_pillar} in "
+          f"a pillar's footprint), {pl.fft_pair_s * 1e3:.3f} ms per FFT "
           f"pair with {spec.base.solver.threads} thread(s)")
     est = pl.estimate_s
     print(f"estimated cost ({pl.how}): {est / 3600:.3g} core-hours "
           f"x {spec.base.solver.threads} thread(s) per rank "
-          f"(~{est / 60:.3g} min on one rank)")
+          f"(~{est / 60:.3g} min on one rank)"
+          + (" for round 0" if spec.auto is not None else ""))
+    if pl.later_s:
+        tot = est + pl.later_s
+        print(f"with the later F_P auto rounds (expected: {AUTO_LATER_TASKS:g} more loading paths "
+              f"per path, measured): about {tot / 3600:.3g} core-hours (~{tot / 60:.3g} min on "
+              "one rank)")
     if spec.search and pl.n_tasks:
-        print(search_cost_line(spec, est / pl.n_tasks))
+        print(search_cost_line(spec, (est + pl.later_s) / pl.n_tasks))
 
 
 # ------------------------------------------------------------------------------------ status

@@ -20,7 +20,9 @@ def parser() -> Parser:
     add_version(p)
     sub = p.add_subparsers(dest="cmd", parser_class=Parser)
     r = sub.add_parser("run", help="run (or resume) a campaign (the default command)")
-    r.add_argument("grid", help="campaign grid YAML")
+    # optional for argparse, required by cmd_run: `fibril-campaign --bogus` then names the
+    # unknown option instead of "the following arguments are required: grid"
+    r.add_argument("grid", nargs="?", help="campaign grid YAML")
     r.add_argument("--output", metavar="FILE.h5",
                    help="output file (default: the grid's 'output', relative to its folder)")
     r.add_argument("--dry-run", action="store_true",

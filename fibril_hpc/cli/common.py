@@ -6,12 +6,14 @@ import argparse
 import functools
 import logging
 import os
+import signal
 import sys
+import threading
 
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
 
 __all__ = ["Parser", "error", "setup_logging", "memory_guard", "pipe_safe", "interruptible",
-           "one_line",
+           "one_line", "Stopped", "STOP_SIGNALS", "stop_status",
            "versions_text", "add_version", "OUT_OF_MEMORY", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE",
            "EXIT_INTERRUPTED"]
 
@@ -132,23 +134,71 @@ def memory_guard(prog: str):
     return wrap
 
 
-def interruptible(prog: str, what: str):
-    """Decorate a command's ``main``: Ctrl-C (SIGINT, a KeyboardInterrupt anywhere in it) ends
-    the command with one line on stderr, ``prog: interrupted (SIGINT); what``, and exit status
-    :data:`EXIT_INTERRUPTED` (75, as an interrupted campaign), instead of a traceback and 130.
-    ``what`` says what the user has and what to do (files are written atomically: whole or not
-    at all)."""
+class Stopped(KeyboardInterrupt):
+    """A stop signal (SIGINT or SIGTERM) that ends a command: a KeyboardInterrupt that knows
+    which signal raised it (:func:`interruptible` names it and picks the exit status)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _raise_stopped(signum, frame):  # noqa: ARG001 - the signal handler's signature
+    raise Stopped(signum)
+
+
+#: the signals a command answers with one line: Ctrl-C, and ``kill`` / a scheduler's stop
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def stop_status(signum: int, code: int | None) -> int:
+    """The exit status after stop signal ``signum``: ``code``, or the shell's 128 + signal
+    (130 for Ctrl-C, 143 for SIGTERM) when ``code`` is None."""
+    return 128 + int(signum) if code is None else code
+
+
+def interruptible(prog: str, what: str, code: int | None = None):
+    """Decorate a command's ``main``: Ctrl-C or SIGTERM anywhere in it ends the command with one
+    line on stderr, ``prog: interrupted (SIGINT); what``, and exit status ``code`` (a campaign:
+    :data:`EXIT_INTERRUPTED`, 75), or 128 + the signal (130, 143) when ``code`` is None, instead
+    of a traceback or a silent death. ``what`` says what the user has and what to do (files are
+    written atomically: whole or not at all). Signals the caller ignores (``nohup``, a
+    background job) stay ignored; the previous handlers are put back on return. The console
+    scripts (:mod:`.entry`) cover the imports before ``main`` is reached."""
 
     def wrap(main):
         @functools.wraps(main)
         def guarded(*args, **kwargs):
+            old = _install(_raise_stopped)
             try:
                 return main(*args, **kwargs)
-            except KeyboardInterrupt:
-                print(one_line(f"{prog}: interrupted (SIGINT); {what}"), file=sys.stderr)
-                return EXIT_INTERRUPTED
+            except KeyboardInterrupt as exc:
+                signum = getattr(exc, "signum", signal.SIGINT)
+                print(one_line(f"{prog}: interrupted ({signal.Signals(signum).name}); {what}"),
+                      file=sys.stderr)
+                return stop_status(signum, code)
+            finally:
+                _restore(old)
         return guarded
     return wrap
+
+
+def _install(handler) -> dict:
+    """Point the stop signals that are not ignored at ``handler`` (main thread only); returns
+    the previous handlers for :func:`_restore`."""
+    old = {}
+    if threading.current_thread() is not threading.main_thread():
+        return old
+    for s in STOP_SIGNALS:
+        prev = signal.getsignal(s)
+        if prev is not signal.SIG_IGN:
+            old[s] = signal.signal(s, handler)
+    return old
+
+
+def _restore(old: dict) -> None:
+    for s, h in old.items():
+        signal.signal(s, h if h is not None else signal.SIG_DFL)
 
 
 def setup_logging(verbose: bool) -> None:

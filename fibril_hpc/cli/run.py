@@ -25,8 +25,9 @@ def _human(result) -> str:
         lines.append(f"  units: F_c = {u['F_c']:.4g} N, d_c = {u['d_c']:.4g} m, k = k~ x "
                      f"{u['k_unit']:.4g} N/m, L = {u['L']:.4g} m")
     lines.append(f"  grid {d['grid_side']}^2 (FFT {d['fft_size']}^2), "
-                 f"{d.get('elements_per_diameter', float('nan')):.2f} elements per pillar diameter, "
-                 f"{d['n_active']} pillar elements")
+                 f"{d.get('elements_per_diameter', float('nan')):.2f} elements per pillar diameter "
+                 f"({d['elements_per_pillar']} in a pillar's footprint, {d['n_active']} under all "
+                 "pillars)")
     for r in result.results:
         if r.status == "ok":
             lines.append(f"  {r.preload_kind}={r.preload:g}: F~_P={r.F_P:.4f} at d~={r.d_tilde_max:.4f}, "
@@ -63,7 +64,7 @@ def main(argv=None) -> int:
                    help="run a built-in scene instead: default, quick, single-pillar")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--out", metavar="FILE.h5", help="write the full result to HDF5")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the curves and contact maps")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the curves and contact maps (a PNG file)")
     p.add_argument("--force", action="store_true",
                    help="replace an existing --out/--plot file (never a campaign file, a "
                         "journal or a file a running campaign holds)")
@@ -92,6 +93,9 @@ def main(argv=None) -> int:
             if path:
                 check_writable(path, field)
                 check_output(path, field, args.force)
+        if args.plot and not args.plot.lower().endswith(".png"):
+            # the figure is a PNG; a name that says otherwise would be a file that lies
+            raise ConfigError("--plot", args.plot, "a file name ending in .png")
         if args.out and args.plot and os.path.realpath(args.out) == os.path.realpath(args.plot):
             raise ConfigError("--plot", args.plot, "a file other than --out")
         if not args.ignore_memory_check:

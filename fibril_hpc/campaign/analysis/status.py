@@ -6,6 +6,7 @@ are safe while a campaign runs.
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 
@@ -15,7 +16,7 @@ from ...errors import StoreError
 from ..plan import search
 from ..plan.auto import path_todo, results_by_path
 from ..plan.axes import record_n_side
-from ..plan.estimate import fft_pair_seconds, task_seconds
+from ..plan.estimate import fft_pair_seconds, later_rounds_seconds, task_seconds
 from ..plan.spec import spec_from_dict
 from ..storage.store import read_records
 from .data import load_campaign
@@ -115,9 +116,19 @@ class Plan:
     sizes: dict
     fft_pair_s: float
     fft_size: int
+    #: elements in one pillar's footprint (an area count)
     elements_per_pillar: int
     estimate_s: float
     how: str
+    #: ``F_P: auto``: the modelled cost of the later rounds of the loading paths priced by the
+    #: model (0.0 for a fixed grid, and for paths priced by finished jobs)
+    later_s: float = 0.0
+
+    @property
+    def elements_per_diameter(self) -> float:
+        """Elements per pillar diameter, the presets' measure of resolution: the diameter of the
+        discretised footprint's equal-area circle over the element side (as ``fibril-run``)."""
+        return 2.0 * math.sqrt(self.elements_per_pillar / math.pi)
 
 
 def plan(spec, retry_failed: bool = False) -> Plan:
@@ -183,12 +194,15 @@ def plan(spec, retry_failed: bool = False) -> Plan:
     est = sum(sum(walls[n]) / len(walls[n]) * jobs for n, jobs in measured.items())
     scale, ref = _calibration(spec, walls, model, front) if modelled else (1.0, None)
     est += scale * sum(model.seconds(key) * count for key, count in modelled.items())
+    later = 0.0 if spec.auto is None else scale * sum(model.later(key) * count
+                                                      for key, count in modelled.items())
     n_tasks = sum(sizes.values())
     pair_s, m, epp = timed[max(timed)]           # the largest brush's (the base scene's)
     how = _how(sum(len(w) for w in walls.values()), {key[0] for key in modelled},
                len(spec.n_sides) > 1, scale, ref)
     return Plan(done=done, failed=failed, to_run=todo, n_tasks=n_tasks, sizes=sizes,
-                fft_pair_s=pair_s, fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how)
+                fft_pair_s=pair_s, fft_size=m, elements_per_pillar=epp, estimate_s=est, how=how,
+                later_s=later)
 
 
 def _holds(by_path: dict, spec, rec) -> bool:
@@ -251,6 +265,12 @@ class _Model:
             self.cache[key] = task_seconds(self.scenes[key], pair_s, epp)
         return self.cache[key]
 
+    def later(self, key) -> float:
+        """Modelled CPU seconds of the later ``F_P: auto`` rounds of the path of a task of
+        ``key`` (priced as its round 0 is)."""
+        pair_s, _, epp = self.timed[key[0]]
+        return later_rounds_seconds(self.scenes[key], pair_s, epp)
+
 
 def _calibration(spec, walls: dict, model: _Model, front=None) -> tuple:
     """(measured / modelled cost per job, n_side) at the largest brush size of a grid sweeping
@@ -304,7 +324,7 @@ def search_plan_line(spec) -> str:
 def search_cost_line(spec, per_path_s: float) -> str:
     """The whole search's likely cost, for ``--dry-run``: a line's typical sigma~ count
     (:func:`~fibril_hpc.campaign.plan.search.expected_sigmas`) x its seeds, priced per loading
-    path as the round to run now."""
+    path as the round to run now (``per_path_s``: with F_P auto's expected later rounds)."""
     a, sa = spec.sigma_auto, spec.seeds_auto
     n_s = search.expected_sigmas(a) if a is not None else len(spec.sigma_tilde)
     lo, hi = (sa.start, sa.max) if sa is not None else (len(spec.seeds),) * 2
@@ -314,8 +334,8 @@ def search_cost_line(spec, per_path_s: float) -> str:
     return (f"the whole search, if the loss lies inside the start range: about {n_s} sigma~ per "
             f"line x {seeds} = {paths * lo}" + (f" to {paths * hi}" if hi != lo else "")
             + f" loading paths, {cost[0]:.3g}" + (f" to {cost[1]:.3g}" if hi != lo else "")
-            + " core-hours (at this round's cost per path; F_P auto rounds and a loss outside "
-            "the start range add more)")
+            + " core-hours (at this round's cost per path, F_P auto's later rounds included when "
+            "the grid has them; a loss outside the start range adds more)")
 
 
 __all__ = ["file_status", "FileStatus", "plan", "Plan", "search_plan_line", "search_cost_line"]

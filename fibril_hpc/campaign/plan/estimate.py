@@ -1,9 +1,11 @@
 """A rough cost estimate for ``--dry-run`` (no job runs).
 
-cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid) x
-``OVERHEAD[preset]``. Seconds per pair are timed here on the campaign's own grid (about a second,
-CPU time); ``OVERHEAD`` is the all-in CPU per pair of a whole path over the bare pair (CG, event
-search, local cascades, the coarse level).
+cost of one task ~ (FFT pairs per task) x (seconds per FFT pair on this grid x
+``OVERHEAD[preset]`` + ``PAIR_FIXED_S``). Seconds per pair are timed here on the campaign's own
+grid (about a second, CPU time); ``OVERHEAD`` is the CPU per pair of a whole path that grows with
+the grid (CG, the coarse level) over the bare pair, ``PAIR_FIXED_S`` what does not (the event
+search, local cascades, Python per step), which dominates small brushes. An ``F_P: auto`` path
+adds its later rounds (:func:`later_rounds_seconds`).
 Pairs per task are modelled per pillar of the 18 x 18 brush (``SIZE_REF``; other brushes by
 the measured growth ``SIZE_GROWTH`` of pairs with the pillar count) per sqrt(element per
 pillar) as
@@ -54,10 +56,25 @@ PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
 #: proportion to N_p, as fitted before the coarse levels, gave a 64 x 64 path 2.6x its pairs.
 SIZE_REF = 324
 SIZE_GROWTH = (0.87, 0.62)
-#: all-in CPU per FFT pair of a path over the bare timed pair, per preset (the means measured on
-#: the paper grid's sampled paths: 3.0 at `fast`, 2.8 at `default` (2.0-3.7), 2.3 at `accurate`;
-#: the pair is cheap since its column stage runs in cache, so the rest weighs more)
-OVERHEAD = {"fast": 3.0, "default": 2.8, "accurate": 2.3}
+#: CPU per FFT pair of a campaign's path over the bare timed pair, per preset (CG vectors, the
+#: coarse levels: work that grows with the grid as the pair does) ...
+OVERHEAD = {"fast": 2.35, "default": 2.35, "accurate": 2.3}
+#: ... plus seconds per FFT pair that do not grow with the grid (the event search, the local
+#: cascades, Python per CG step): they dominate small brushes, where a model of FFT time alone
+#: was 2-3x low at 8 x 8. Fitted with ``OVERHEAD`` (least squares of the relative error) on
+#: whole serial campaigns at 8 x 8 (`fast` with ``F_P: auto``, `default` with three preloads),
+#: 12 x 12 and 18 x 18 (`fast`, ``F_P: auto``) and one 36 x 36 `fast` job, the CPU time of the
+#: whole run measured (``benchmarks/price_check.py``; benchmarks/NOTES.md "Dry-run prices,
+#: measured"; `default` alone fitted 3.25 on one grid, which priced the paper grid's 18 x 18
+#: `default` paths 2.4x their measured CPU, so both presets share `fast`'s 2.35). `accurate`
+#: keeps its earlier FFT-only fit (2.3, on the paper grid's paths), not refitted.
+PAIR_FIXED_S = 0.00096
+#: ``F_P: auto``: the later rounds of a loading path, beyond round 0 (each a new loading path
+#: with about one preload near the kink): measured 1.0-2.1 per path, 1.4 on README's 8 x 8 grid
+#: (24 paths: 33 later tasks, 37 jobs; the paper grid at `fast`, 330 paths: 499 later jobs)
+AUTO_LATER_TASKS = 1.4
+#: the preload that prices a later round's unloading (the kink lies near 0.01-0.2)
+AUTO_LATER_F_P = 0.06
 
 
 #: largest FFT side timed for the estimate; a larger grid is timed on fewer pillars (same
@@ -113,4 +130,12 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
 
 def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
     """Modelled CPU seconds of one task (``scene`` with its preloads)."""
-    return task_pairs(scene, elements_per_pillar) * pair_s * OVERHEAD.get(scene.preset, OVERHEAD["default"])
+    per_pair = pair_s * OVERHEAD.get(scene.preset, OVERHEAD["default"]) + PAIR_FIXED_S
+    return task_pairs(scene, elements_per_pillar) * per_pair
+
+
+def later_rounds_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
+    """Modelled CPU seconds of the later ``F_P: auto`` rounds of one loading path whose round 0
+    is ``scene`` (:data:`AUTO_LATER_TASKS` tasks of one preload near the kink)."""
+    one = scene.replace(F_P=[AUTO_LATER_F_P])
+    return AUTO_LATER_TASKS * task_seconds(one, pair_s, elements_per_pillar)

@@ -12,7 +12,10 @@ class Progress:
     """The progress of a running campaign on stderr: a tqdm bar on a terminal (jobs finished
     of the grid, rate, ETA, done/failed/running), a plain line every ``every_s`` seconds
     otherwise. ``total`` may grow (an ``F_P: auto`` round adds jobs): the bar and the ETA
-    follow, and ``growing`` says that later rounds may add more."""
+    follow, and ``growing`` says that later rounds may add more, so that the ETA, which counts
+    the jobs known so far, is a lower bound (``ETA >= ...``): a later round is a new loading path
+    for about one more job each, 1.4 of them per path on average, so the jobs that such rounds
+    add cost more than the jobs before them (``--dry-run`` prices them)."""
 
     def __init__(self, total_jobs: int, workers: int, stream=None, every_s: float = 10.0,
                  enabled: bool = True, done_before: int = 0, failed_before: int = 0,
@@ -67,7 +70,8 @@ class Progress:
         """Done, failed and running jobs (and whether rounds may add jobs)."""
         text = (f"{self.done_before + self.done} done, {self.failed_before + self.failed} "
                 f"failed, {self.running} running")
-        return text + ("; auto rounds may add jobs" if self.growing else "")
+        return text + ("; auto rounds may add jobs (the ETA is a lower bound)" if self.growing
+                       else "")
 
     def line(self) -> str:
         """The progress text: jobs finished, done, failed, running, elapsed, ETA."""
@@ -78,7 +82,7 @@ class Progress:
         eta = left / (finished / el) if finished and el > 0 else float("nan")
         return (f"fibril-campaign: {before + finished}/{self.total} jobs "
                 f"({self.counts()}; {finished} this run) "
-                f"elapsed {clock(el)} ETA {clock(eta)}")
+                f"elapsed {clock(el)} ETA {'>= ' if self.growing else ''}{clock(eta)}")
 
     def show(self, force=False):
         """Redraw the bar, or write the plain line when it is due (or ``force``)."""

@@ -1,0 +1,95 @@
+"""Ctrl-C and SIGTERM from the first instant of a command (issue 36, item 5): one line on
+stderr and the command's interrupted status (fibril-run and fibril-accuracy: 130 for SIGINT,
+143 for SIGTERM; fibril-campaign: 75), never a traceback, also while the package still imports
+numba, h5py and pyFFTW (the first 0.5-3 s). Real processes, started as the installed console
+scripts start (pyproject's [project.scripts], pip's template)."""
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from console_scripts import ROOT, entry_points, script_env, write_scripts
+
+COMMANDS = {
+    "fibril-run": (["--builtin", "default", "--no-progress", "--out", "r.h5"], None),
+    "fibril-campaign": (["demo.yaml", "--no-progress"], 75),
+    "fibril-accuracy": (["--quick", "--out", "acc"], None),
+}
+
+
+@pytest.fixture(scope="module")
+def bin_dir(tmp_path_factory):
+    return write_scripts(tmp_path_factory.mktemp("bin"))
+
+
+def _stop(bin_dir, tmp_path, cmd, delay, sig=signal.SIGINT):
+    shutil.copy(os.path.join(ROOT, "campaigns", "demo.yaml"), tmp_path / "demo.yaml")
+    args, _ = COMMANDS[cmd]
+    p = subprocess.Popen([os.path.join(bin_dir, cmd), *args], cwd=tmp_path, text=True,
+                         env=script_env(bin_dir), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         # a test run in the background (nohup, `&`) inherits SIGINT ignored
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        if delay:
+            time.sleep(delay)
+        p.send_signal(sig)
+        _, err = p.communicate(timeout=120)
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    return p.returncode, err
+
+
+def _status(cmd, sig):
+    code = COMMANDS[cmd][1]
+    return 128 + sig if code is None else code
+
+
+def _check(cmd, rc, err, sig, tmp_path, delay):
+    name = signal.Signals(sig).name
+    if delay == 0 and rc == -sig and err == "":
+        return     # the signal came before the interpreter ran a line: it dies by the signal
+        # with nothing printed, as any program does (the shell reports 128 + signal, 130)
+    assert "Traceback" not in err and "Fatal" not in err, err
+    assert rc == _status(cmd, sig), (rc, err)
+    assert err.count("\n") == 1 and err.startswith(f"{cmd}: interrupted ({name})"), err
+    if cmd == "fibril-run":
+        assert not (tmp_path / "r.h5").exists()          # nothing half-written
+
+
+def test_console_scripts_start_in_the_light_entry_module():
+    """Every console script starts in fibril_hpc.cli.entry, and importing it (with the package
+    face) loads none of the heavy libraries whose import a Ctrl-C used to cut short."""
+    assert {t.split(":")[0] for t in entry_points().values()} == {"fibril_hpc.cli.entry"}
+    code = ("import sys; import fibril_hpc.cli.entry; "
+            "print(sorted(m for m in ('numba', 'numpy', 'h5py', 'pyfftw', 'scipy', 'matplotlib', "
+            "'yaml', 'argparse') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env=script_env(ROOT), check=True).stdout
+    assert out.strip() == "[]", out
+
+
+@pytest.mark.parametrize("cmd,delay", [("fibril-run", 0.5), ("fibril-campaign", 0.5)])
+def test_ctrl_c_while_importing_is_one_line(bin_dir, tmp_path, cmd, delay):
+    rc, err = _stop(bin_dir, tmp_path, cmd, delay)
+    _check(cmd, rc, err, signal.SIGINT, tmp_path, delay)
+
+
+def test_sigterm_on_fibril_run_is_one_line_and_143(bin_dir, tmp_path):
+    rc, err = _stop(bin_dir, tmp_path, "fibril-run", 1.0, signal.SIGTERM)
+    _check("fibril-run", rc, err, signal.SIGTERM, tmp_path, 1.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("delay", [0, 0.2, 0.5, 1, 2])
+@pytest.mark.parametrize("cmd", sorted(COMMANDS))
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_stop_signal_at_every_moment_of_the_start(bin_dir, tmp_path, cmd, delay, sig):
+    rc, err = _stop(bin_dir, tmp_path, cmd, delay, sig)
+    _check(cmd, rc, err, sig, tmp_path, delay)
