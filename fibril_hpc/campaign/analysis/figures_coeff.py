@@ -11,19 +11,20 @@ import math
 import numpy as np
 
 from ..laws.alphabeta import model as ab_model
+from ..laws.verdict import LawReason, ZeroState
 from .figures import FA, KT, SIG, colour, err, legend, save, say, subplots
+from .verdict_text import law_why
 
 
 def _ab_label(k, st) -> str:
     a = st.ab
     if st.status == "undefined":
-        why = (st.status_why or "no fit").split(" [")[0].split(":")[0]
-        if "consistent with 0" in (st.status_why or ""):
-            why = "α consistent with 0"
+        why = ("α consistent with 0" if st.verdict.law_reason == LawReason.ALPHA_ZERO
+               else str(st.verdict.law_reason))
         return f"{KT}={k:g}: α, β undefined ({why})"[:72]
     flag = " — POOR FIT" if st.status == "poor fit" else ""
-    sc = (f", {SIG}$_c$={a.sigma_c:.3g}" + (" (pinned)" if st.sigma_c_status == "pinned" else "")
-          if st.sigma_c_status in ("measured", "pinned") else f", {SIG}$_c$ undefined")
+    sc = (f", zero α/β={a.sigma_c:.3g} (extrapolated)" if st.verdict.zero == ZeroState.EXTRAPOLATED
+          else ", no zero")
     return f"{KT}={k:g}: α={a.alpha:.3g}, β={a.beta:.3g}{sc}{flag}"
 
 
@@ -197,8 +198,8 @@ def alpha_sigma_c(data, out_dir, name="alpha_sigma_c.png"):
     where it is measured (filled) or pinned to the bracket (open); missing values say why."""
     fig, axes = subplots(1, 3, figsize=(14, 4.4))
     ks = [k for k, st in data.studies.items() if st.ab.ok and st.status != "undefined"]
-    why = "; ".join(f"{KT}={k:g}: {st.status_why}" for k, st in data.studies.items()
-                    if st.status == "undefined" and st.status_why)
+    why = "; ".join(f"{KT}={k:g}: {law_why(st)}" for k, st in data.studies.items()
+                    if st.status == "undefined" and law_why(st))
     for ax, (name_, attr, ci) in zip(axes, (("α", "alpha", "alpha_ci"), ("β", "beta", "beta_ci"),
                                              (f"{SIG}$_c$", "sigma_c", "sigma_c_ci"))):
         if attr == "sigma_c":
@@ -250,17 +251,14 @@ def _sigma_c_panel(ax, data) -> bool:
             ax.plot([k], [lo], "^", color="0.5", ms=7, mfc="none",
                     label=f"{SIG}$_c$ > the largest {SIG} run" if not drawn else None)
             drawn = True
-        if st.sigma_c_status == "measured" and math.isfinite(st.ab.sigma_c):
+        if st.verdict.zero == ZeroState.EXTRAPOLATED and math.isfinite(st.ab.sigma_c):
+            # the line's zero, an extrapolation: open, beside the measured bracket
             ax.errorbar([k], [st.ab.sigma_c], yerr=np.array([err(st.ab.sigma_c, st.sigma_c_ci)]).T,
-                        fmt="o", capsize=3, color="C3")
-            drawn = True
-        elif st.sigma_c_status == "pinned" and math.isfinite(st.ab.sigma_c):
-            # the bracket is the measurement: no interval of alpha/beta drawn beside it
-            ax.plot([k], [st.ab.sigma_c], "o", color="C3", mfc="none")
+                        fmt="o", capsize=3, color="C3", mfc="none")
             drawn = True
     if drawn:
         ax.set_yscale("log")
         legend(ax)
-    ax.set_title(f"{SIG}$_c$: grey the data bracket (△ above it);\n● α/β measured, ○ pinned",
+    ax.set_title(f"{SIG}$_c$: grey the data bracket (△ above it);\n○ α/β, the line's zero (extrapolated)",
                  fontsize=9)
     return drawn

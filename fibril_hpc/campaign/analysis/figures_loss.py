@@ -13,9 +13,9 @@ import numpy as np
 
 from ..laws import loss as _loss
 from ..laws.alphabeta import model as ab_model
-from ..laws.loss import fmt_ci
 from ..laws.reading import FEW_PILLARS, LOST, RESOLVED, UNRESOLVED
 from .figures import FA, KT, SIG, err, save, say, subplots
+from .verdict_text import RELATION_WORDS, fmt_ci
 
 #: panels per row of the grid (one k~ per column: c above, the plateau below)
 COLUMNS = 4
@@ -106,8 +106,7 @@ def _title(k, st) -> str:
         return head + "\nα/β: no finite zero"
     if st.status != "fitted":
         return head + f"\nα/β = {a.sigma_c:.3g}: {st.status}, not compared"
-    verdict = {_loss.AGREE: "agrees", _loss.ABOVE: "OVERSHOOTS", _loss.BELOW: "UNDERSHOOTS"}
-    return head + f"\nα/β = {a.sigma_c:.3g}: {verdict.get(st.loss_vs_law, '—')}"
+    return head + f"\nα/β = {a.sigma_c:.3g}: {RELATION_WORDS.get(st.loss_vs_law, '—')}"
 
 
 def _not_drawn(data) -> str:

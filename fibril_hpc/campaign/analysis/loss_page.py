@@ -7,13 +7,14 @@ from __future__ import annotations
 import math
 
 from ..laws import loss as _loss
-from ..laws.loss import fmt_ci
+from ..laws.verdict import Relation
 from ..laws.reading import FEW_PILLARS
+from .verdict_text import RELATION_WORDS, fmt_ci, relation_why
 
 
 def measured_cell(st) -> str:
     """The measured sigma~_c of one k~ for a table cell: 'value [CI] in (lo, hi]', or the bound."""
-    lo, hi = st.loss_bracket
+    lo, hi = st.loss.span if st.loss.uncertain else st.loss_bracket
     if st.loss_kind == _loss.BRACKET:
         return f"{fmt_ci(st.sigma_loss, st.sigma_loss_ci)} in ({lo:.4g}, {hi:.4g}]"
     if st.loss_kind == _loss.NO_LOSS:
@@ -25,9 +26,14 @@ def measured_cell(st) -> str:
 
 def verdict_cell(st) -> str:
     """alpha/beta against the measured loss for a table cell: a disagreement in bold."""
-    if not st.loss_vs_law:
+    words = RELATION_WORDS.get(st.loss_vs_law)
+    if not words:
         return "—"
-    return st.loss_vs_law if st.loss_vs_law == _loss.AGREE else f"**{st.loss_vs_law}**"
+    return words if st.loss_vs_law == Relation.WITHIN else f"**{words}**"
+
+
+def _in(span) -> str:
+    return f"({span[0]:.3g}, {'∞' if span[1] == math.inf else f'{span[1]:.3g}'}]"
 
 
 def search_max(meta) -> float:
@@ -59,7 +65,9 @@ def headline_lines(studies: dict, sigma_max: float = math.nan) -> list:
     parts = []
     if by.get(_loss.BRACKET):
         parts.append("; ".join(f"k~ = {k:g} at {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} "
-                               f"(bracket {st.loss_bracket[0]:g}-{st.loss_bracket[1]:g})"
+                               + (f"(bracket {st.loss_bracket[0]:g}-{st.loss_bracket[1]:g})"
+                                  if not st.loss.uncertain else
+                                  f"(a state not certain with its seeds: in {_in(st.loss.span)})")
                                for k, st in by[_loss.BRACKET]))
     if by.get(_loss.NO_LOSS):
         parts.append("no loss up to the largest sigma~ run for k~ = " + ", ".join(
@@ -76,12 +84,12 @@ def headline_lines(studies: dict, sigma_max: float = math.nan) -> list:
              f"{FEW_PILLARS:g} pillars' pull-off, interpolated between the last sigma~ holding "
              "adhesion and the first lost): " + "; ".join(parts) + "."]
     bad = [(k, st) for k, st in studies.items()
-           if st.loss_vs_law in (_loss.ABOVE, _loss.BELOW)]
+           if st.loss_vs_law in (Relation.ABOVE, Relation.BELOW)]
     for k, st in bad:
-        lines.append(f"**k~ = {k:g}: {st.loss_vs_law_why}.**")
-    good = [k for k, st in studies.items() if st.loss_vs_law == _loss.AGREE]
+        lines.append(f"**k~ = {k:g}: {relation_why(st)}.**")
+    good = [k for k, st in studies.items() if st.loss_vs_law == Relation.WITHIN]
     if good:
-        lines.append("alpha/beta's sigma~_c agrees with the measured loss for k~ = "
+        lines.append("alpha/beta's zero (an extrapolation) lies within the measured loss for k~ = "
                      + ", ".join(f"{k:g}" for k in good) + ".")
     return lines
 

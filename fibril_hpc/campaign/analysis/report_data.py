@@ -30,6 +30,7 @@ from .loss_page import search_max
 from .seed_limits import headline_line as seeds_line
 from .seed_limits import seed_limits, seeds_auto
 from .variants import Variant, select
+from .verdict_text import law_why
 
 #: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
 POOR_FACTOR = 2.0
@@ -261,22 +262,13 @@ def headline(d: ReportData) -> list:
                         f"({k:g}, {g.sigma_tilde:g})")
         why = "; ".join(f"{w}: {', '.join(v)}" for w, v in out.items())
         lines.append("alpha and beta undefined for k~ = " + ks(f"{k:g}" for k in by["undefined"])
-                     + ": " + "; ".join(f"k~ = {k:g}: {d.studies[k].status_why}"
+                     + ": " + "; ".join(f"k~ = {k:g}: {law_why(d.studies[k])}"
                                         for k in by["undefined"])
                      + (f". Left out of the fit: {why}" if why else "") + "."
                      # the grid advice where too few sigma~ could be fitted, not where the law
                      # was fitted and failed (alpha consistent with 0 on many rising groups)
                      + ("" if all(d.studies[k].ab.ok for k in by["undefined"])
                         else " " + GRID_ADVICE + "."))
-    sc = {s: [k for k, st in d.studies.items() if st.sigma_c_status == s]
-          for s in ("measured", "pinned")}
-    if sc["measured"] or sc["pinned"]:
-        lines.append("sigma~_c = alpha/beta " + "; ".join(
-            p for p in (("measured by the law for k~ = " + ks(f"{k:g}" for k in sc["measured"]))
-                        if sc["measured"] else "",
-                        ("pinned to the data bracket for k~ = " + ks(f"{k:g}" for k in sc["pinned"])
-                         + " (the bracket is the measurement)") if sc["pinned"] else "") if p)
-                     + "; elsewhere undefined (see the alpha/beta table).")
     lines += loss_lines(d.studies, search_max(d.meta))
     states: dict = {}
     for st in d.studies.values():

@@ -17,7 +17,9 @@ from dataclasses import dataclass, field
 
 from ..laws.intervals import dominant
 from ..laws.size import DIFFERS
+from ..laws.verdict import ZeroState
 from .loss_page import measured_cell, verdict_cell
+from .verdict_text import ab_notes, law_why, loss_note, relation_why, zero_why
 
 
 @dataclass
@@ -106,34 +108,31 @@ def alpha_beta(d) -> Table:
                        "loss_bracket_lo", "loss_bracket_hi", "loss_vs_law", "loss_vs_law_why",
                        "note"])
     t.page_rows.append(["k̃", "law", "σ̃_c measured: adhesion lost [seed CI] in its bracket "
-                        "(model-free)", "α [seed CI]", "β [seed CI]", "σ̃_c = α/β [seed CI]",
-                        "α/β against the measured loss", "σ̃ in fit (c = 0)", "χ²/dof",
+                        "(model-free)", "α [seed CI]", "β [seed CI]", "α/β, the line's zero [seed CI]",
+                        "α/β against the measured loss", "σ̃ active in fit (lost)", "χ²/dof",
                         "bias of α", "larger error", "note"])
     for k, st in d.studies.items():
         a = st.ab
-        note = "; ".join([w for w in (st.status_why, st.sigma_c_why) if w]
-                         + ([st.loss_vs_law_why] if st.loss_vs_law else [st.loss_note])
-                         + a.notes + st.notes)
+        note = "; ".join([w for w in (law_why(st), zero_why(st)) if w]
+                         + ([relation_why(st)] if st.loss_vs_law else [loss_note(st)])
+                         + ab_notes(a) + st.notes)
         dom = dominant(a.alpha, st.alpha_ci, d.bias)
-        t.csv_rows.append([repr(k), st.status, num(a.alpha), *_ci_csv(st.alpha_ci), num(a.beta),
+        t.csv_rows.append([repr(k), str(st.status), num(a.alpha), *_ci_csv(st.alpha_ci),
+                           num(a.beta),
                            *_ci_csv(st.beta_ci), num(a.sigma_c), *_ci_csv(st.sigma_c_ci),
-                           st.sigma_c_status, num(a.bracket[0]), num(a.bracket[1]),
-                           str(a.n_points), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
+                           str(st.verdict.zero), num(a.bracket[0]), num(a.bracket[1]),
+                           str(a.n_active), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
                            num(d.bias), dom, st.ci_method, num(st.sigma_loss),
                            *_ci_csv(st.sigma_loss_ci), st.loss_kind, num(st.loss_bracket[0]),
-                           num(st.loss_bracket[1]), st.loss_vs_law, st.loss_vs_law_why, note])
+                           num(st.loss_bracket[1]), str(st.loss_vs_law), relation_why(st), note])
         shown = st.status != "undefined"
         law = st.status if st.status == "fitted" else f"**{st.status}**"
-        if st.sigma_c_status == "measured":
-            sc = val_ci(a.sigma_c, st.sigma_c_ci, ".3g")
-        elif st.sigma_c_status == "pinned":
-            sc = f"{fmt(a.sigma_c, '.3g')} (**pinned** to the bracket)"
-        else:
-            sc = "undefined"
+        sc = (val_ci(a.sigma_c, st.sigma_c_ci, ".3g") + " (extrapolated)"
+              if st.verdict.zero == ZeroState.EXTRAPOLATED else "none")
         t.page_rows.append([f"{k:g}", law, measured_cell(st),
                             val_ci(a.alpha, st.alpha_ci) if shown else "undefined",
                             val_ci(a.beta, st.beta_ci) if shown else "undefined", sc,
-                            verdict_cell(st), f"{a.n_points} ({a.n_zero})", fmt(a.chi2_red, ".3g")
+                            verdict_cell(st), f"{a.n_active} ({a.n_zero})", fmt(a.chi2_red, ".3g")
                             + (" **poor fit**" if a.poor else ""),
                             bias_cell(a.alpha, d.bias) if shown else "—", dom, note])
     return t
