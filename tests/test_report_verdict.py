@@ -193,3 +193,18 @@ def test_the_poor_fit_test_knows_each_sd_comes_from_a_few_seeds():
     plain = fit_alpha_beta(s, c, [0.05] * 5)
     three = fit_alpha_beta(s, c, [0.05] * 5, n_seeds=[3] * 5)
     assert three.chi2_red == pytest.approx(plain.chi2_red * 2 / 3)
+
+
+def test_a_zero_the_line_does_not_show_lies_within_nothing():
+    """beta consistent with 0: the line shows no zero, so an overlap of its (finite) interval
+    with the measured loss is no statement; a zero wholly beyond the loss is still named."""
+    from fibril_hpc.campaign.laws.verdict import RelationReason, ZeroState
+
+    ab = fit_alpha_beta([0.2, 0.4, 0.6, 0.8], [1 / s - 1 for s in (0.2, 0.4, 0.6, 0.8)],
+                        [0.01] * 4)
+    m = loss.Loss(kind=loss.BRACKET, bracket=(0.9, 1.1), span=(0.9, 1.1))
+    v = judge(ab, (0.9, 1.1), (-0.1, 2.0), (0.95, 1.05), m)
+    assert v.zero == ZeroState.NONE and v.relation == Relation.NONE
+    assert v.relation_reason == RelationReason.NO_ZERO
+    assert judge(ab, (0.9, 1.1), (-0.1, 2.0), (3.0, 9.0), m).relation == Relation.ABOVE
+    assert judge(ab, (0.9, 1.1), (0.5, 2.0), (0.95, 1.05), m).relation == Relation.WITHIN

@@ -285,8 +285,8 @@ def headline(d: ReportData) -> list:
                      "preload would resolve it).")
     if states.get(LOST):
         lines.append(f"{states[LOST]} (k~, sigma~) have lost adhesion (a plateau within "
-                     f"{FEW_PILLARS:g} pillars' pull-off: c = 0 by that threshold, weighted in "
-                     "the fit by the secant its few pillars draw).")
+                     f"{FEW_PILLARS:g} pillars' pull-off: c = 0 by that threshold, left out of "
+                     "the alpha/beta line, whose zero is set beside the measured loss).")
     dom: dict = {}
     for st in d.studies.values():
         for g in st.groups:
