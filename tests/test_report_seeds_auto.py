@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import yaml
 
+from fibril_hpc.campaign.analysis.verdict_text import ci_method
 from fibril_hpc.campaign.analysis import seed_limits as sl
 from fibril_hpc.campaign.analysis.data import CampaignData
 from fibril_hpc.campaign.analysis.report_data import build
@@ -188,7 +189,7 @@ def test_a_group_with_fewer_seeds_gets_an_interval_of_its_own_seeds_width():
     pts = {0.2: group(t, 10, PRE, rng=5), 0.4: group(t, 3, PRE, rng=6)}
     st = study_k(1.0, pts, n_boot=400, floor=FLOOR)
     few = st.groups[1]
-    assert few.n_seeds == 3 and "paired across sigma~" in st.ci_method
+    assert few.n_seeds == 3 and "paired across sigma~" in ci_method(st)
     lo, hi = few.plateau_ci
     own = group_precision(*pts[0.4], floor=FLOOR, width=0.2, n_boot=400)
     w, w_own = hi - lo, own.plateau_ci[1] - own.plateau_ci[0]

@@ -30,7 +30,7 @@ from .loss_page import search_max
 from .seed_limits import headline_line as seeds_line
 from .seed_limits import seed_limits, seeds_auto
 from .variants import Variant, select
-from .verdict_text import law_why
+from .verdict_text import law_why, why_out
 
 #: a law whose rms residual of log F~_A exceeds this many seed standard deviations is "poor"
 POOR_FACTOR = 2.0
@@ -257,8 +257,8 @@ def headline(d: ReportData) -> list:
         out: dict = {}
         for k in by["undefined"]:
             for g in d.studies[k].groups:
-                if g.why_out:
-                    out.setdefault(g.why_out.split(":")[0], []).append(
+                if g.out:
+                    out.setdefault(why_out(g).split(":")[0], []).append(
                         f"({k:g}, {g.sigma_tilde:g})")
         why = "; ".join(f"{w}: {', '.join(v)}" for w, v in out.items())
         lines.append("alpha and beta undefined for k~ = " + ks(f"{k:g}" for k in by["undefined"])

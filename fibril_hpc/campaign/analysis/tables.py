@@ -19,7 +19,8 @@ from ..laws.intervals import dominant
 from ..laws.size import DIFFERS
 from ..laws.verdict import ZeroState
 from .loss_page import measured_cell, verdict_cell
-from .verdict_text import ab_notes, law_why, loss_note, relation_why, zero_why
+from .verdict_text import (ab_notes, ci_method, law_why, loss_note, relation_why, study_notes,
+                           why_out, zero_why)
 
 
 @dataclass
@@ -115,14 +116,14 @@ def alpha_beta(d) -> Table:
         a = st.ab
         note = "; ".join([w for w in (law_why(st), zero_why(st)) if w]
                          + ([relation_why(st)] if st.loss_vs_law else [loss_note(st)])
-                         + ab_notes(a) + st.notes)
+                         + ab_notes(a) + study_notes(st))
         dom = dominant(a.alpha, st.alpha_ci, d.bias)
         t.csv_rows.append([repr(k), str(st.status), num(a.alpha), *_ci_csv(st.alpha_ci),
                            num(a.beta),
                            *_ci_csv(st.beta_ci), num(a.sigma_c), *_ci_csv(st.sigma_c_ci),
                            str(st.verdict.zero), num(a.bracket[0]), num(a.bracket[1]),
                            str(a.n_active), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
-                           num(d.bias), dom, st.ci_method, num(st.sigma_loss),
+                           num(d.bias), dom, ci_method(st), num(st.sigma_loss),
                            *_ci_csv(st.sigma_loss_ci), st.loss_kind, num(st.loss_bracket[0]),
                            num(st.loss_bracket[1]), str(st.loss_vs_law), relation_why(st), note])
         shown = st.status != "undefined"
@@ -217,10 +218,10 @@ def coefficients(d) -> Table:
                                num(r.c_res), num(r.c_lower), num(r.c_stage), num(r.c_chord), str(r.n_stage),
                                num(r.F_P_half), num(r.resolve_below), num(r.c0),
                                *_ci_csv(g.c0_ci), num(r.F_P0), num(r.F_A0), num(r.c_detect),
-                               str(g.in_fit).lower(), num(rr), num(d.bias), dom, g.why_out,
+                               str(g.in_fit).lower(), num(rr), num(d.bias), dom, why_out(g),
                                note])
             fitcell = (f"yes: {fmt(rr, '+.3g')}" if g.in_fit and st.ab.ok
-                       else ("yes (no fit)" if g.in_fit else f"no: {g.why_out}"))
+                       else ("yes (no fit)" if g.in_fit else f"no: {why_out(g)}"))
             t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", _state_cell(r), _c_cell(r, g.c_ci),
                                 fmt(r.F_P_half, ".3g"), val_ci(r.c0, g.c0_ci), fmt(r.F_P0, ".3g"),
                                 fitcell, bias_cell(r.c, d.bias), dom, note])

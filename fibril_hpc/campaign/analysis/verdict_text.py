@@ -9,6 +9,7 @@ import math
 
 from ..laws import loss as _loss
 from ..laws.alphabeta import MIN_ACTIVE, MIN_DOF, Note
+from ..laws.study import CIKind, OutReason
 from ..laws.verdict import LawReason, Relation, RelationReason, ZeroReason
 
 #: a table cell's words for where alpha/beta's zero lies against the measured loss
@@ -152,5 +153,46 @@ def _uncertain(m) -> str:
             f"({lo:.3g}, {'∞' if hi == math.inf else f'{hi:.3g}'}]")
 
 
+def why_out(g) -> str:
+    """Why a group's c is not in the alpha/beta fit ("" when it is)."""
+    r, o = g.reading, g.out
+    return {OutReason.NONE: "",
+            OutReason.SMOOTH_LIMIT: "sigma~ = 0 (the smooth limit) has no place in a law in "
+                                    "1/sigma~",
+            OutReason.NO_DATA: "no finite points",
+            OutReason.UNRESOLVED: f"rise not resolved: c >= {r.c_lower:.3g} is a lower bound",
+            OutReason.UNDETERMINED: "state undetermined (too few levels, or no pillar floor to "
+                                    "tell a loss)",
+            OutReason.NOT_REACHED: "plateau not reached: c is provisional",
+            OutReason.NO_C: "c could not be read (the rise never reaches half the plateau)",
+            }.get(o, str(o))
+
+
+def ci_method(st) -> str:
+    """How the seed intervals of a k~ were made, in words."""
+    if st.ci_kind == CIKind.ONE_SEED:
+        out = "one seed: no seed interval"
+    elif st.ci_kind == CIKind.OFF:
+        out = "bootstrap off: no seed interval"
+    elif st.ci_kind == CIKind.SAME_SEEDS:
+        out = f"bootstrap over {st.n_labels} seeds ({st.n_resamples} resamples)"
+    else:
+        out = (f"bootstrap over seed labels paired across sigma~, each (k~, sigma~) taking the "
+               f"drawn labels it holds ({st.min_seeds} to {st.n_labels} seeds; "
+               f"{st.n_resamples} resamples)")
+    return out + ("; alpha, beta: the fit's covariance (Student t)" if st.ab_from_cov else "")
+
+
+def study_notes(st) -> list:
+    """The notes of a k~'s intervals, in words."""
+    out = []
+    if st.widened_poor:
+        out.append("alpha, beta intervals widened to the fit's Student-t interval (poor fit)")
+    if st.unbounded_share > 0:
+        out.append(f"beta <= 0 in {100 * st.unbounded_share:.0f} % of the resamples: alpha/beta "
+                   "unbounded above")
+    return out
+
+
 __all__ = ["RELATION_WORDS", "fmt_ci", "ab_notes", "law_why", "zero_why", "relation_why",
-           "loss_note"]
+           "loss_note", "why_out", "ci_method", "study_notes"]

@@ -21,6 +21,7 @@ certainty the seeds do not give.
 
 from __future__ import annotations
 
+import enum
 import math
 from dataclasses import dataclass, field
 
@@ -39,6 +40,27 @@ LOST_MODE = "out"
 NAN2 = (math.nan, math.nan)
 
 
+class OutReason(enum.StrEnum):
+    """Why a group's c is not given to the alpha/beta fit (NONE: it is)."""
+
+    NONE = ""
+    SMOOTH_LIMIT = "sigma~ = 0"             # no place in a law in 1/sigma~
+    NO_DATA = "no finite points"
+    UNRESOLVED = "rise not resolved"        # c >= reading.c_lower, a lower bound
+    UNDETERMINED = "state undetermined"     # too few levels, or no pillar floor
+    NOT_REACHED = "plateau not reached"     # c provisional
+    NO_C = "c not read"                     # the rise never reaches half the plateau
+
+
+class CIKind(enum.StrEnum):
+    """How the seed intervals of a k~ were made."""
+
+    ONE_SEED = "one seed"                   # no interval
+    OFF = "bootstrap off"                   # no interval (n_boot < 1)
+    SAME_SEEDS = "same seeds"               # every group holds the same seeds: one multiset
+    PAIRED_MIXED = "paired, mixed sets"     # seeds: auto: each group takes the labels it holds
+
+
 @dataclass
 class GroupResult:
     """One (k~, sigma~): its reading, seed intervals and whether c entered alpha and beta."""
@@ -52,7 +74,7 @@ class GroupResult:
     c0_ci: tuple = NAN2
     c_sd: float = math.nan
     in_fit: bool = False
-    why_out: str = ""
+    out: str = ""                   # why c is not given to the fit (:class:`OutReason`)
 
 
 @dataclass
@@ -66,8 +88,13 @@ class KStudy:
     alpha_ci: tuple = NAN2
     beta_ci: tuple = NAN2
     sigma_c_ci: tuple = NAN2        # the interval of alpha/beta, the line's zero
-    ci_method: str = ""
-    notes: list = field(default_factory=list)
+    ci_kind: str = CIKind.OFF       # how the seed intervals were made (:class:`CIKind`)
+    n_labels: int = 0               # seed labels of the k~ (the union)
+    min_seeds: int = 0              # the fewest seeds of a group
+    n_resamples: int = 0
+    ab_from_cov: bool = False       # alpha, beta intervals from the fit's covariance (no bootstrap)
+    widened_poor: bool = False      # alpha, beta widened to the fit's Student-t interval (poor)
+    unbounded_share: float = 0.0    # share of resamples with beta <= 0 (alpha/beta unbounded)
     #: the measured loss (:class:`.loss.Loss`): the critical roughness of this brush
     loss: _loss.Loss = field(default_factory=_loss.Loss)
     verdict: _verdict.Verdict = field(default_factory=_verdict.Verdict)
@@ -112,22 +139,22 @@ def _resample(pts, labels):
     return np.asarray(new_seed), pre[sel], x[sel], y[sel]
 
 
-def _why_out(sigma: float, r: Reading) -> str:
+def _out(sigma: float, r: Reading) -> OutReason:
     if sigma <= 0:
-        return "sigma~ = 0 (the smooth limit) has no place in a law in 1/sigma~"
+        return OutReason.SMOOTH_LIMIT
     if r.plateau_state == "no data":
-        return "no finite points"
+        return OutReason.NO_DATA
     if r.state == UNRESOLVED:
-        return f"rise not resolved: c >= {r.c_lower:.3g} is a lower bound"
+        return OutReason.UNRESOLVED
     if r.state == UNDETERMINED:
-        return "state undetermined (too few levels, or no pillar floor to tell a loss)"
+        return OutReason.UNDETERMINED
     if r.state == LOST:
-        return ""
+        return OutReason.NONE
     if r.plateau_state == "not reached":
-        return "plateau not reached: c is provisional"
+        return OutReason.NOT_REACHED
     if not math.isfinite(r.c):
-        return "c could not be read (the rise never reaches half the plateau)"
-    return ""
+        return OutReason.NO_C
+    return OutReason.NONE
 
 
 def _ab_points(groups, cs=None):
@@ -151,9 +178,9 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     groups = []
     for s in sigmas:
         r = read_group(*pts[s], half=half, floor=floor)
-        why = _why_out(s, r)
+        why = _out(s, r)
         groups.append(GroupResult(float(k_tilde), s, r, int(np.unique(pts[s][0]).size),
-                                  in_fit=not why, why_out=why))
+                                  in_fit=why == OutReason.NONE, out=why))
     labels = sorted(set().union(*(set(p[0].tolist()) for p in pts.values()))) if pts else []
     n = len(sigmas)
 
@@ -171,7 +198,6 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     # groups with different seed sets (seeds: auto): the drawn labels each holds, paired
     reps = None if not n else (paired_replicates(sets, stat, n_boot, rng_seed) if uneven
                                else seed_replicates(labels, stat, n_boot, rng_seed))
-    notes = []
     if reps is not None:
         for i, g in enumerate(groups):
             r, n_s = g.reading, g.n_seeds
@@ -180,24 +206,21 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
             g.c_ci = _nonneg(expanded(r.c, percentile_interval(reps[3 * i + 1]), n_s))
             g.c0_ci = _nonneg(expanded(r.c0, percentile_interval(reps[3 * i + 2]), n_s))
             g.c_sd = replicate_sd(reps[3 * i + 1])
-        method = (f"bootstrap over {len(labels)} seeds ({reps.shape[1]} resamples)" if not uneven
-                  else f"bootstrap over seed labels paired across sigma~, each (k~, sigma~) "
-                  f"taking the drawn labels it holds ({min(map(len, sets))} to {len(labels)} "
-                  f"seeds; {reps.shape[1]} resamples)")
+        kind = CIKind.PAIRED_MIXED if uneven else CIKind.SAME_SEEDS
     else:
-        method = ("one seed: no seed interval" if len(labels) < 2
-                  else "bootstrap off: no seed interval")
+        kind = CIKind.ONE_SEED if len(labels) < 2 else CIKind.OFF
     s0, c0, sd0, ns0 = _ab_points(groups)
     ab = fit_alpha_beta(s0, c0, sd0, lost=lost, n_seeds=ns0)
-    st = KStudy(float(k_tilde), groups, ab, ci_method=method, notes=notes)
+    st = KStudy(float(k_tilde), groups, ab, ci_kind=kind, n_labels=len(labels),
+                min_seeds=min(map(len, sets)) if sets else 0,
+                n_resamples=0 if reps is None else reps.shape[1])
     _measure_loss(st, None if reps is None else reps[0::3], floor)
     _per_seed(st, pts, half, floor)
     if not ab.ok:
         return judge(st)
     cov_a, cov_b = t_interval(ab.alpha, ab.alpha_se, ab.dof), t_interval(ab.beta, ab.beta_se, ab.dof)
     if reps is None:
-        st.alpha_ci, st.beta_ci = cov_a, cov_b
-        st.ci_method += "; alpha, beta: the fit's covariance (Student t)"
+        st.alpha_ci, st.beta_ci, st.ab_from_cov = cov_a, cov_b, True
         return judge(st)
     fit_idx = [i for i, g in enumerate(groups) if g.in_fit]
     s, _, sd, ns = _ab_points(groups)
@@ -220,10 +243,8 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     if ab.poor:
         st.alpha_ci = (min(st.alpha_ci[0], cov_a[0]), max(st.alpha_ci[1], cov_a[1]))
         st.beta_ci = (min(st.beta_ci[0], cov_b[0]), max(st.beta_ci[1], cov_b[1]))
-        notes.append("alpha, beta intervals widened to the fit's Student-t interval (poor fit)")
-    unb = float(np.mean(np.isinf(ab_reps[2])))
-    if unb > 0:
-        notes.append(f"beta <= 0 in {100 * unb:.0f} % of the resamples: alpha/beta unbounded above")
+        st.widened_poor = True
+    st.unbounded_share = float(np.mean(np.isinf(ab_reps[2])))
     return judge(st)
 
 
