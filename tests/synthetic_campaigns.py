@@ -13,6 +13,10 @@ independent relative normal deviates. Curve shapes:
 * ``lost``: F~_A at the floor (one pillar, per-seed scatter) at every preload.
 
 c(sigma~) may follow the paper's law max(alpha/sigma~ - beta, 0) (groups with c = 0 are lost).
+``group``, ``law_campaign`` and ``loss_campaign`` draw each group's seed deviates afresh;
+``fade_campaign`` draws them once per seed, so a seed is the same brush at every sigma~ (as the
+real heights sigma~ (max xi - xi_n) are), and its plateau fades smoothly to the last pillar
+(each seed its own fade), at any seed counts per sigma~ (``seeds: auto``'s 3-10).
 Sampling: a fixed list of preloads, optionally with per-seed extra preloads (mixed seed sets per
 level, as ``F_P: auto`` makes them) and per-seed plateau rounds (x 4 above the top).
 """
