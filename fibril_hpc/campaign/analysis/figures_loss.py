@@ -13,10 +13,12 @@ import numpy as np
 
 from ..laws import loss as _loss
 from ..laws.alphabeta import model as ab_model
-from ..laws.loss import fmt_ci
 from ..laws.reading import FEW_PILLARS, LOST, RESOLVED, UNRESOLVED
 from .figures import FA, KT, SIG, err, save, say, subplots
-from .zero_cell import NO_ZERO, law_zero
+from .loss_page import measured_span, span_text
+from .notation import page_text
+from .verdict_text import NO_ZERO_WORDS, RELATION_WORDS, fmt_ci
+from .zero_cell import law_zero
 
 #: panels per row of the grid (one k~ per column: c above, the plateau below)
 COLUMNS = 4
@@ -111,13 +113,17 @@ def _marks(ax, st):
 
 
 def _title(k, st) -> str:
-    head = f"{KT} = {k:g}: {SIG}$_c$ = {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} (measured)"
+    if st.loss_kind == _loss.BRACKET and math.isfinite(st.sigma_loss):
+        # one number and one interval, the headline's: the span the zero is set against
+        head = (f"{KT} = {k:g}: {SIG}$_c$ = {st.sigma_loss:.3g} in "
+                f"{span_text(measured_span(st))} (measured)")
+    else:
+        head = f"{KT} = {k:g}: {SIG}$_c$ = {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} (measured)"
     z, _, rel, why = law_zero(st)
     if not math.isfinite(z):
-        return head + f"\nline's zero: none ({NO_ZERO[why]})"
-    where = {"within": "inside", "above": "above", "below": "below"}.get(rel)
-    return head + f"\nline's zero α/β = {z:.3g}" + (f", {where} the measured span" if where
-                                                    else "")
+        return head + f"\nline's zero: none ({page_text(NO_ZERO_WORDS[why])})"
+    where = RELATION_WORDS[rel].split(" (")[0] if rel else ""
+    return head + f"\nline's zero α/β = {z:.3g}" + (f", {where}" if where else "")
 
 
 def _not_drawn(data) -> str:
