@@ -70,7 +70,10 @@ def test_report_reads_the_known_plateau_c_and_alpha_beta(tmp_path):
         assert r["group_state"] == ("adhesion lost" if s == 3.0 else "rise resolved")
         assert r["bias_rel"] == "-0.036" and r["dominant"] in ("seeds", "discretisation")
     coef = {float(r["sigma_tilde"]): r for r in _rows(out / "coefficients.csv")}
-    assert float(coef[3.0]["c"]) == 0.0 and coef[3.0]["in_alpha_beta_fit"] == "true"
+    # the lost group: c = 0, left out of the alpha/beta line (issue 34), and said so
+    assert float(coef[3.0]["c"]) == 0.0 and coef[3.0]["in_alpha_beta_fit"] == "false"
+    assert "left out of the alpha/beta line" in coef[3.0]["why_out"]
+    assert coef[3.0]["c_minus_law"] == ""
     for s in (0.1, 0.2, 0.4):
         # the secant through the origin to half the plateau, from preloads a factor 2 apart
         assert float(coef[s]["c"]) == pytest.approx(ALPHA / s - BETA, rel=0.05)

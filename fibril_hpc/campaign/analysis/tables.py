@@ -19,7 +19,8 @@ from ..laws.intervals import dominant
 from ..laws.size import DIFFERS
 from .loss_page import measured_cell
 from .notation import clauses, once, page_text
-from .verdict_text import ab_notes, ci_method, law_why, loss_note, relation_why, study_notes, why_out
+from .verdict_text import (ab_notes, ci_method, law_why, line_out, loss_note, relation_why,
+                           study_notes)
 from .zero_cell import zero_cell
 
 
@@ -219,17 +220,17 @@ def coefficients(d) -> Table:
         res = dict(zip(st.ab.sigmas, st.ab.residuals))
         for g in st.groups:
             r = g.reading
-            rr = res.get(g.sigma_tilde, math.nan) if g.in_fit else math.nan
+            out = line_out(g, st.ab)
+            rr = res.get(g.sigma_tilde, math.nan) if not out else math.nan
             dom = dominant(r.c, g.c_ci, d.bias)
             note = once(r.c_notes)
             t.csv_rows.append([repr(k), repr(g.sigma_tilde), r.state, num(r.c), *_ci_csv(g.c_ci),
                                num(r.c_res), num(r.c_lower), num(r.c_stage), num(r.c_chord), str(r.n_stage),
                                num(r.F_P_half), num(r.resolve_below), num(r.c0),
                                *_ci_csv(g.c0_ci), num(r.F_P0), num(r.F_A0), num(r.c_detect),
-                               str(g.in_fit).lower(), num(rr), num(d.bias), dom, why_out(g),
-                               note])
-            fitcell = (f"yes: {fmt(rr, '+.3g')}" if g.in_fit and st.ab.ok
-                       else ("yes (no fit)" if g.in_fit else f"no: {why_out(g)}"))
+                               str(not out).lower(), num(rr), num(d.bias), dom, out, note])
+            fitcell = (f"no: {out}" if out else
+                       (f"yes: {fmt(rr, '+.3g')}" if st.ab.ok else "yes (no fit)"))
             t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", _state_cell(r), _c_cell(r, g.c_ci),
                                 fmt(r.F_P_half, ".3g"), val_ci(r.c0, g.c0_ci), fmt(r.F_P0, ".3g"),
                                 fitcell, bias_cell(r.c, d.bias), dom, _c_page_note(r)])

@@ -9,6 +9,7 @@ import math
 
 from ..laws import loss as _loss
 from ..laws.alphabeta import MIN_ACTIVE, MIN_DOF, Note
+from ..laws.reading import LOST
 from ..laws.study import CIKind, OutReason
 from ..laws.verdict import LawReason, Relation, RelationReason, ZeroReason
 
@@ -186,6 +187,14 @@ def why_out(g) -> str:
             }.get(o, str(o))
 
 
+def line_out(g, ab) -> str:
+    """Why a group is not a point of the alpha/beta line ("" when it is): :func:`why_out`, or,
+    for a lost group (c = 0) that the fit leaves out (``ab.lost == "out"``), that it is."""
+    if g.in_fit and g.reading.state == LOST and ab.lost == "out":
+        return "adhesion lost (c = 0): left out of the alpha/beta line"
+    return why_out(g)
+
+
 def ci_method(st) -> str:
     """How the seed intervals of a k~ were made, in words."""
     if st.ci_kind == CIKind.ONE_SEED:
@@ -213,4 +222,4 @@ def study_notes(st) -> list:
 
 
 __all__ = ["RELATION_WORDS", "NO_ZERO_WORDS", "LAW_REASON_WORDS", "fmt_ci", "ab_notes", "law_why",
-           "zero_why", "relation_why", "loss_note", "why_out", "ci_method", "study_notes"]
+           "zero_why", "relation_why", "loss_note", "why_out", "line_out", "ci_method", "study_notes"]
