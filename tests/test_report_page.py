@@ -258,3 +258,28 @@ def test_every_csv_column_is_defined_in_docs_report_md(real_page):
     docs = _documented()
     missing = {f: [c for c in cols if c not in docs] for f, cols in written.items()}
     assert not any(missing.values()), missing
+
+
+def test_no_zero_is_drawn_where_the_verdict_says_the_line_shows_none(data, monkeypatch):
+    """k~ = 1's line overshoots (a zero beyond the data, named at the edge); with the verdict
+    saying the line shows no zero (beta consistent with 0) nothing of it is drawn or named, in
+    either figure, although alpha/beta is still a finite number."""
+    st = data.studies[1.0]
+    assert math.isfinite(st.ab.sigma_c)
+    none = replace(st.verdict, zero=ZeroState.NONE, zero_reason=ZeroReason.BETA_ZERO,
+                   relation=Relation.NONE)
+    monkeypatch.setattr(st, "verdict", none)
+    fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
+    ax = next(a for a in fig.axes if (m := re.search(r"= ([\d.]+):", a.get_title()))
+              and float(m.group(1)) == 1.0)
+    assert "line's zero: none (β consistent with 0" in ax.get_title()
+    assert not [t for t in ax.texts if "α/β" in t.get_text()]
+    assert not [h for h in ax.get_legend_handles_labels()[1] if "zero of the line" in h]
+    fig = _captured(monkeypatch, figures_coeff, figures_coeff.alpha_sigma_c, data)
+    zeros = [ln for ln in fig.axes[2].get_lines() if ln.get_color() == "C1"]
+    assert not [ln for ln in zeros if 1.0 in np.asarray(ln.get_xdata(), float)]
+    # and with the verdict's own zero, it is drawn (the check above can fail)
+    monkeypatch.setattr(st, "verdict", replace(none, zero=ZeroState.EXTRAPOLATED))
+    fig = _captured(monkeypatch, figures_coeff, figures_coeff.alpha_sigma_c, data)
+    zeros = [ln for ln in fig.axes[2].get_lines() if ln.get_color() == "C1"]
+    assert [ln for ln in zeros if 1.0 in np.asarray(ln.get_xdata(), float)]

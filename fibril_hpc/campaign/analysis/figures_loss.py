@@ -102,9 +102,15 @@ def _plateau_panel(ax, st, gs, floor):
 
 
 def _marks(ax, st):
-    """The bracket (grey band) and the measured sigma~_c with its interval (red line, band)."""
+    """The bracket (grey band), the span where it is wider (grey dashed ends: the interval the
+    headline gives, :func:`.loss_page.measured_span`) and the measured sigma~_c with its interval
+    (red line, band)."""
     lo, hi = st.loss_bracket
     ax.axvspan(lo, hi, color=BRACKET_C, alpha=0.15, lw=0, label="bracket (lo, hi]")
+    ends = [x for x, b in zip(measured_span(st), (lo, hi)) if x != b and math.isfinite(x)]
+    for i, x in enumerate(ends):
+        ax.axvline(x, color="0.45", ls="--", lw=1,
+                   label=None if i else "span: lost in (lo, hi] (states not certain, seed CI)")
     if math.isfinite(st.sigma_loss):
         a, b = st.sigma_loss_ci
         if math.isfinite(a) and math.isfinite(b) and b > a:
