@@ -52,17 +52,16 @@ def states(folder) -> str:
 
 
 def alpha_beta(folder) -> str:
-    out = ["| k̃ | law | χ²/dof | data bracket of σ̃_c | α [seed CI] | β [seed CI] | σ̃_c |",
+    out = ["| k̃ | law | χ²/dof | data bracket of σ̃_c | α [seed CI] | β [seed CI] | α/β (extrapolated zero) |",
            "| --- | --- | --- | --- | --- | --- | --- |"]
     for r in _rows(folder, "alpha_beta.csv"):
         br = f"({_g(r['bracket_c_positive_up_to'], 'g')}, {_g(r['bracket_c_zero_from'], 'g')}]"
         ab = r["status"] != "undefined"
         a = f"{_g(r['alpha'])} [{_g(r['alpha_lo'])}, {_g(r['alpha_hi'])}]" if ab else "undefined"
         b = f"{_g(r['beta'])} [{_g(r['beta_lo'])}, {_g(r['beta_hi'])}]" if ab else "undefined"
-        st = r["sigma_tilde_c_status"]
         sc = (f"{_g(r['sigma_tilde_c'])} [{_g(r['sigma_tilde_c_lo'])}, "
-              f"{_g(r['sigma_tilde_c_hi'])}]" if st == "measured"
-              else (f"{_g(r['sigma_tilde_c'])}, pinned" if st == "pinned" else "undefined"))
+              f"{_g(r['sigma_tilde_c_hi'])}]" if r["sigma_tilde_c_status"] == "extrapolated"
+              else "none")
         out.append(f"| {float(r['k_tilde']):g} | {r['status']} | {_g(r['chi2_per_dof'])} | {br} | "
                    f"{a} | {b} | {sc} |")
     return "\n".join(out)

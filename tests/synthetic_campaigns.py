@@ -13,6 +13,10 @@ independent relative normal deviates. Curve shapes:
 * ``lost``: F~_A at the floor (one pillar, per-seed scatter) at every preload.
 
 c(sigma~) may follow the paper's law max(alpha/sigma~ - beta, 0) (groups with c = 0 are lost).
+``group``, ``law_campaign`` and ``loss_campaign`` draw each group's seed deviates afresh;
+``fade_campaign`` draws them once per seed, so a seed is the same brush at every sigma~ (as the
+real heights sigma~ (max xi - xi_n) are), and its plateau fades smoothly to the last pillar
+(each seed its own fade), at any seed counts per sigma~ (``seeds: auto``'s 3-10).
 Sampling: a fixed list of preloads, optionally with per-seed extra preloads (mixed seed sets per
 level, as ``F_P: auto`` makes them) and per-seed plateau rounds (x 4 above the top).
 """
@@ -152,3 +156,63 @@ def loss_campaign(sigma_c, sigmas, seeds, alpha=None, beta=None, fade=3.0, top=1
         out[s] = group(t, seeds, pre, rng=rng)
         truths[s] = t
     return out, truths
+
+
+def fade_plateau(sigma, sigma_h, m=4.0, top=1.5):
+    """A plateau that fades smoothly to the last pillar's pull-off: FLOOR + (top - FLOOR) /
+    (1 + (sigma / sigma_h)^m) (no clean step: it reaches FLOOR only as sigma~ -> inf)."""
+    return FLOOR + (top - FLOOR) / (1.0 + (sigma / sigma_h) ** m)
+
+
+_GH = np.polynomial.hermite_e.hermegauss(40)
+
+
+def mean_fade(sigma, sigma_h, tau, m=4.0, top=1.5):
+    """The seed-mean of :func:`fade_plateau` over seeds whose sigma_h is sigma_h e^(tau z), z
+    standard normal (Gauss-Hermite quadrature)."""
+    x, w = _GH
+    return float(np.sum(w * np.array([fade_plateau(sigma, sigma_h * math.exp(tau * v), m, top)
+                                      for v in x])) / np.sum(w))
+
+
+def fade_campaign(sigma_c, sigmas, seeds, alpha=None, beta=1.0, tau=0.15, m=4.0, top=1.5,
+                  c_sd=0.05, rho=1.0, P_noise=0.02, rng=None):
+    """{sigma~: points} of one k~ whose plateau *fades* (:func:`fade_plateau`) with seeds that
+    are the same brush at every sigma~, like the real heights sigma~ (max xi - xi_n): seed s has
+    its own fade, sigma_h e^(tau z_s), and its own c deviate, (1 + c_sd zc_s) with zc_s the same
+    at every sigma~ (``rho`` = 1; below 1 mixed with a fresh deviate per group as rho zc_s +
+    sqrt(1 - rho^2) z); a small independent relative noise ``P_noise`` on each plateau above the
+    floor. sigma_h is set so that the *seed-mean* plateau crosses the loss threshold exactly at
+    ``sigma_c`` (the quantity the report measures). c follows alpha/sigma~ - beta (by default
+    alpha/beta = sigma_c) where the seed-mean plateau holds adhesion, and the few pillars' creep
+    (10 x the plateau) where it is lost. ``seeds``: a number, or {sigma~: number} (``seeds: auto``: labels
+    0..n-1 of one population at every sigma~). Sharp rises, preloads x 1.5 apart. Returns
+    (points, {sigma~: population plateau}, sigma_h)."""
+    from scipy import optimize
+
+    rng = np.random.default_rng(rng)
+    alpha = sigma_c * beta if alpha is None else alpha
+    sigma_h = optimize.brentq(lambda h: mean_fade(sigma_c, h, tau, m, top) - LOSS,
+                              sigma_c * 1e-3, sigma_c * 1e3)
+    n_of = seeds if isinstance(seeds, dict) else {s: seeds for s in sigmas}
+    n_max = max(n_of.values())
+    z = rng.standard_normal(n_max)               # each seed's brush: its fade ...
+    zc = rng.standard_normal(n_max)              # ... and its c, at every sigma~
+    out, truth = {}, {}
+    for s in sigmas:
+        Ppop = mean_fade(s, sigma_h, tau, m, top)
+        cpop = alpha / s - beta if Ppop > LOSS and alpha / s > beta else 10.0 * Ppop
+        hi = 4 * Ppop / cpop
+        pre = tuple(float(v) for v in np.geomspace(hi / 4000, hi, 22).round(12))
+        rows = []
+        for k in range(n_of[s]):
+            P = fade_plateau(s, sigma_h * math.exp(tau * z[k]), m, top)
+            P = FLOOR + (P - FLOOR) * (1 + P_noise * rng.standard_normal())
+            dev = rho * zc[k] + math.sqrt(max(1 - rho * rho, 0.0)) * rng.standard_normal()
+            c = cpop * max(1 + c_sd * dev, 0.05)
+            fl = FLOOR * (1 + 0.02 * rng.standard_normal())
+            for p in pre:
+                rows.append((k, p, p, min(max(fl, c * p), P)))
+        out[s] = tuple(np.array(col) for col in zip(*rows))
+        truth[s] = Ppop
+    return out, truth, sigma_h

@@ -7,7 +7,9 @@ import math
 import numpy as np
 import pytest
 
+from fibril_hpc.campaign.analysis import verdict_text
 from fibril_hpc.campaign.laws import loss
+from fibril_hpc.campaign.laws.verdict import Relation, RelationReason, relation
 from fibril_hpc.campaign.laws.reading import LOST, RESOLVED, UNRESOLVED
 from fibril_hpc.campaign.laws.study import study_k
 
@@ -34,7 +36,7 @@ def test_the_bracket_is_the_first_loss_above_a_group_holding_adhesion():
     assert loss.bracket_indices([1, 2], [LOST, LOST]) is None
     m = loss.measure([0.5, 1.0, 2.0, 3.0], [RESOLVED, LOST, RESOLVED, LOST],
                      [0.1, 0.01, 0.1, 0.01], LOSS)
-    assert m["bracket"] == (0.5, 1.0) and "not monotone" in m["note"]
+    assert m.bracket == (0.5, 1.0) and m.again == (2.0,)
 
 
 @pytest.mark.slow
@@ -49,14 +51,17 @@ def test_the_measured_loss_lies_in_its_bracket_and_its_interval_holds_the_truth(
         assert (lo, hi) == (DENSE[4], DENSE[5])
         a, b = st.sigma_loss_ci
         assert lo <= st.sigma_loss <= hi and a <= st.sigma_loss <= b
-        # the interval leaves the bracket only where a bracketing group's state is not certain
-        # with its seeds, and the page says so
-        assert (lo <= a and b <= hi) or "is not certain" in st.loss_note, (a, b, st.loss_note)
+        # the span holds the interval and the bracket, and leaves the bracket only where a
+        # group's state is not certain with its seeds, which the page says
+        s_lo, s_hi = st.loss.span
+        assert s_lo <= min(a, lo) and max(b, hi) <= s_hi
+        assert (s_lo, s_hi) == (lo, hi) or st.loss.uncertain
+        assert not st.loss.uncertain or "is not certain" in verdict_text.loss_note(st)
         assert st.sigma_loss == pytest.approx(1.0, rel=0.03)
         held += st.sigma_loss_ci[0] <= 1.0 <= st.sigma_loss_ci[1]
-        # the law is true (alpha/beta = 1, the loss sigma~): the two agree
-        assert st.loss_vs_law == loss.AGREE, st.loss_vs_law_why
-        assert "they agree" in st.loss_vs_law_why
+        # the law is true (alpha/beta = 1, the loss sigma~): its zero lies within the loss
+        assert st.loss_vs_law == Relation.WITHIN, verdict_text.relation_why(st)
+        assert "overlaps the measured loss" in verdict_text.relation_why(st)
     assert held >= 3
 
 
@@ -72,8 +77,8 @@ def test_a_law_whose_zero_lies_far_beyond_a_sharp_loss_is_flagged():
         assert st.loss_bracket == (0.9, 1.1)
         assert 0.9 <= st.sigma_loss <= 1.1
         assert st.ab.sigma_c > 1.1 * 1.5
-        assert st.loss_vs_law == loss.ABOVE, st.loss_vs_law_why
-        assert "overshoots" in st.loss_vs_law_why and "bracket 0.9-1.1" in st.loss_vs_law_why
+        assert st.loss_vs_law == Relation.ABOVE, verdict_text.relation_why(st)
+        assert "lies above the measured loss, span (0.9, 1.1]" in verdict_text.relation_why(st)
 
 
 def test_an_uncertain_lost_group_widens_the_interval_beyond_the_bracket():
@@ -83,21 +88,60 @@ def test_an_uncertain_lost_group_widens_the_interval_beyond_the_bracket():
     rng = np.random.default_rng(0)
     reps = np.vstack([thr * 2.0 * np.ones(200), thr * np.exp(0.5 * rng.standard_normal(200))])
     m = loss.measure([1.0, 1.1], [RESOLVED, LOST], [thr * 2.0, thr * 0.9], thr, reps, (5, 5))
-    assert 1.0 <= m["sigma"] <= 1.1 and m["ci"][1] > 1.1
-    assert "the first lost group is not certain" in m["note"]
+    assert 1.0 <= m.sigma <= 1.1 and m.ci[1] > 1.1 and m.span[1] >= m.ci[1]
     sure = np.vstack([thr * 2.0 * np.ones(200), thr * 0.5 * np.ones(200)])
     m = loss.measure([1.0, 1.1], [RESOLVED, LOST], [thr * 2.0, thr * 0.5], thr, sure, (5, 5))
-    assert 1.0 <= m["ci"][0] <= m["ci"][1] <= 1.1 and "not certain" not in m["note"]
+    assert 1.0 <= m.ci[0] <= m.ci[1] <= 1.1 and m.span == (1.0, 1.1) and not m.uncertain
+
+
+def test_a_state_not_certain_with_its_seeds_widens_the_span_to_the_next_certain_group():
+    """issue 34: sigma~ = 0.951 of the shipped search "held adhesion" with a plateau interval of
+    [2.4, 5.5] pillars around the 3-pillar threshold, and the bracket (0.951, 1.04] excluded
+    the other seed set's loss. A group whose plateau interval holds the threshold is not used
+    as certain: the span reaches the next group whose state is certain, on either side."""
+    thr = LOSS
+    sig = [0.6, 0.8, 0.951, 1.04, 1.2, 1.4]
+    st = [RESOLVED, RESOLVED, RESOLVED, LOST, LOST, LOST]
+    P = [4 * thr, 2 * thr, 1.3 * thr, 0.8 * thr, 0.6 * thr, 0.3 * thr]
+    cis = [(3 * thr, 5 * thr), (1.5 * thr, 2.5 * thr), (0.8 * thr, 1.8 * thr),
+           (0.5 * thr, 1.1 * thr), (0.3 * thr, 0.9 * thr), (0.2 * thr, 0.4 * thr)]
+    m = loss.measure(sig, st, P, thr, None, (5,) * 6, cis)
+    assert m.bracket == (0.951, 1.04) and m.uncertain == (0.951, 1.04)
+    assert m.span == (0.8, 1.2)
+    # no group certain above: the span is unbounded there (never the bracket)
+    m = loss.measure(sig[:4], st[:4], P[:4], thr, None, (5,) * 4, cis[:4])
+    assert m.span == (0.8, math.inf)
+    # every state certain: the span is the bracket
+    m = loss.measure(sig, st, P, thr, None, (5,) * 6, [(p, p) for p in P])
+    assert m.span == (0.951, 1.04) and m.uncertain == ()
+
+
+def test_whether_lost_groups_creep_changes_nothing_of_alpha_beta_or_the_verdict():
+    """issue 34: changing only whether the lost groups creep flipped the page from "fitted, law
+    above" to "poor fit, chi^2/dof 116" (a flat lost group weighed 1e5 times a creeping one).
+    Lost groups are out of the line now: creeping or flat, the same alpha, beta and verdict."""
+    for draw in range(2):
+        flat, _ = loss_campaign(1.0, SHARP, 5, alpha=4.0, beta=1.0, fade=None, rng=draw)
+        creep, _ = loss_campaign(1.0, SHARP, 5, alpha=4.0, beta=1.0, fade=None, rng=draw,
+                                 creep=3.0)
+        a, b = (study_k(1.0, p, n_boot=60, floor=FLOOR) for p in (flat, creep))
+        assert a.ab.alpha == b.ab.alpha and a.ab.beta == b.ab.beta
+        assert a.verdict == b.verdict and a.status == "fitted"
+        assert 0.9 <= a.sigma_loss <= 1.1            # the measurement stands on its own
 
 
 def test_a_poor_fit_is_not_compared_with_the_measured_loss():
-    """c = 0 held tightly by the lost groups: the line cannot follow c and pins its zero where
-    the weights put it; a poor fit says nothing of where c reaches 0, so no verdict."""
-    pts, _ = loss_campaign(1.0, SHARP, 5, alpha=4.0, beta=1.0, fade=None, rng=0)
-    st = study_k(1.0, pts, n_boot=100, floor=FLOOR)
-    assert st.status == "poor fit" and st.loss_vs_law == ""
-    assert "poor fit" in st.loss_vs_law_why and "not compared" in st.loss_vs_law_why
-    assert 0.9 <= st.sigma_loss <= 1.1            # the measurement stands on its own
+    """A poor line does not describe c: its zero is not set beside the measured loss."""
+    from fibril_hpc.campaign.laws.alphabeta import fit_alpha_beta
+    from fibril_hpc.campaign.laws.verdict import LawState, judge
+
+    s = np.array([0.1, 0.2, 0.4, 0.8, 1.2])
+    bad = fit_alpha_beta(s, [5.0, 1.0, 3.0, 0.2, 0.0], [0.05] * 4 + [0.01])
+    m = loss.Loss(kind=loss.BRACKET, bracket=(0.8, 1.2), span=(0.8, 1.2), sigma=1.0,
+                  ci=(0.9, 1.1))
+    v = judge(bad, (1.0, 2.0), (0.5, 1.0), (0.9, 1.1), m)
+    assert bad.poor and v.law == LawState.POOR and v.relation == Relation.NONE
+    assert v.relation_reason == RelationReason.LAW_NOT_FITTED
 
 
 def test_without_a_bracket_the_page_says_which_side():
@@ -105,38 +149,56 @@ def test_without_a_bracket_the_page_says_which_side():
     pts, _ = law_campaign(2.0, 0.5, (0.07, 0.164, 0.384, 0.898, 2.1), seeds=3, rng=1)
     st = study_k(1.0, pts, n_boot=40, floor=FLOOR)
     assert st.loss_kind == loss.NO_LOSS and st.loss_bracket == (2.1, math.inf)
-    assert "no loss up to sigma~ = 2.1 (the largest run)" in st.loss_note
+    assert "no loss up to sigma~ = 2.1 (the largest run)" in verdict_text.loss_note(st)
     assert math.isnan(st.sigma_loss)
-    assert st.loss_vs_law == loss.AGREE and "not lost up to sigma~ = 2.1" in st.loss_vs_law_why
+    # a zero beyond the largest sigma~ run and a loss unbounded above: never "within"
+    assert st.loss_vs_law == "" and st.verdict.relation_reason == RelationReason.UNBOUNDED
     # alpha/beta's zero far out with beta consistent with 0: no sigma~_c to compare, not "agree"
     for draw in range(3):
         pts, _ = law_campaign(2.0, 0.05, (0.07, 0.164, 0.384, 0.898, 2.1), seeds=3, rng=draw)
         st = study_k(1.0, pts, n_boot=40, floor=FLOOR)
         assert st.loss_kind == loss.NO_LOSS and st.loss_vs_law == ""
-        assert st.beta_ci[0] > 0 or "consistent with 0" in st.loss_vs_law_why
+        assert st.beta_ci[0] > 0 or st.verdict.zero == "none"
     # lost at every sigma~ run: the loss lies below the smallest
     pts, _ = loss_campaign(0.5, (0.8, 1.0, 1.3), 3, rng=2)
     st = study_k(1.0, pts, n_boot=40, floor=FLOOR)
     assert [g.reading.state for g in st.groups] == [LOST] * 3
-    assert st.loss_kind == loss.ALL_LOST and "lost at every sigma~ run (< 0.8)" in st.loss_note
+    assert st.loss_kind == loss.ALL_LOST
+    assert "lost at every sigma~ run (< 0.8)" in verdict_text.loss_note(st)
 
 
-def test_the_comparison_rules():
-    br = (0.9, 1.1)
-    # wholly above the bracket: the law overshoots; wholly below: undershoots
-    assert loss.compare(loss.BRACKET, br, 1.0, (0.95, 1.05), 2.1, (1.8, 2.6))[0] == loss.ABOVE
-    assert loss.compare(loss.BRACKET, br, 1.0, (0.95, 1.05), 0.5, (0.4, 0.6))[0] == loss.BELOW
-    # overlapping the bracket (not the interpolation's interval): agree
-    assert loss.compare(loss.BRACKET, br, 1.0, (0.95, 1.05), 1.08, (1.07, 1.3))[0] == loss.AGREE
-    # the value on the c = 0 point (pinned) is never "above", even with its interval beyond
-    assert loss.compare(loss.BRACKET, br, 1.0, (0.95, 1.05), 1.12, (1.11, 1.13))[0] == loss.AGREE
+def test_the_relation_rules():
+    span = (0.9, 1.1)
+    # wholly above the span: above; wholly below: below; overlapping: within
+    assert relation(span, (1.8, 2.6))[0] == Relation.ABOVE
+    assert relation(span, (0.4, 0.6))[0] == Relation.BELOW
+    assert relation(span, (1.07, 1.3))[0] == Relation.WITHIN
     # an interval unbounded above says nothing unless it lies wholly above
-    assert loss.compare(loss.NO_LOSS, (2.1, math.inf), math.nan, (math.nan,) * 2, 6.0,
-                        (0.0, math.inf))[0] == ""
-    assert loss.compare(loss.NO_LOSS, (2.1, math.inf), math.nan, (math.nan,) * 2, 1.0,
-                        (0.8, 1.5))[0] == loss.BELOW
-    assert loss.compare(loss.ALL_LOST, (0.0, 0.8), math.nan, (math.nan,) * 2, 1.5,
-                        (1.2, 1.9))[0] == loss.ABOVE
-    # no finite alpha/beta: nothing to compare
-    v, why = loss.compare(loss.BRACKET, br, 1.0, (0.95, 1.05), math.nan, (math.nan,) * 2)
-    assert v == "" and "no finite" in why
+    assert relation((2.1, math.inf), (0.0, math.inf)) == (Relation.NONE, RelationReason.UNBOUNDED)
+    assert relation((2.1, math.inf), (3.0, 6.0)) == (Relation.NONE, RelationReason.UNBOUNDED)
+    assert relation((2.1, math.inf), (0.8, 1.5))[0] == Relation.BELOW
+    assert relation((0.0, 0.8), (1.2, 1.9))[0] == Relation.ABOVE
+    # issue 34: "1.08 [0.92, inf]" measured was judged against the bare bracket (0.9, 1.08]
+    # and a zero at 1.12 called "law above"; the same inputs with an upper end of 5 agreed
+    assert relation((0.9, math.inf), (1.11, 1.13))[0] == Relation.NONE
+    assert relation((0.9, 5.0), (1.11, 1.13))[0] == Relation.WITHIN
+    # no interval of the zero: not compared (never the value taken as certain)
+    assert relation(span, (math.nan, math.nan)) == (Relation.NONE, RelationReason.NO_INTERVAL)
+
+
+
+def test_no_loss_up_to_the_search_limit_is_said_to_be_the_limit():
+    import yaml
+
+    from fibril_hpc.campaign.analysis import headline, loss_page
+
+    pts, _ = law_campaign(2.0, 0.5, (0.07, 0.164, 0.384, 0.898, 2.1), seeds=3, rng=1)
+    st = study_k(1.0, pts, n_boot=40, floor=FLOOR)
+    meta = {"campaign_yaml": yaml.safe_dump({"sigma_tilde": {"auto": {"start": [0.07, 0.5],
+                                                                     "max": 2.1}}})}
+    assert loss_page.search_max(meta) == 2.1
+    line = headline._loss_value(1.0, st, loss_page.search_max(meta))
+    assert line == "k̃ = 1: > 2.1 (no loss up to the largest σ̃ run, the search's limit)"
+    fixed = {"campaign_yaml": yaml.safe_dump({"sigma_tilde": [0.07, 2.1]})}
+    assert math.isnan(loss_page.search_max(fixed))
+    assert "search's limit" not in headline._loss_value(1.0, st, loss_page.search_max(fixed))

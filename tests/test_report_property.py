@@ -80,7 +80,7 @@ def _check_numbers(path):
         for g in s_.groups:
             r = g.reading
             # never a silent NaN: an undefined c says why
-            assert math.isfinite(r.c) or r.c_notes or g.why_out or r.plateau_state == "no data"
+            assert math.isfinite(r.c) or r.c_notes or g.out or r.plateau_state == "no data"
     return d
 
 

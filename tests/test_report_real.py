@@ -79,8 +79,9 @@ def test_alpha_beta_take_the_lost_adhesion_as_c_zero(jobs):
     assert [g.reading.state for g in st.groups][-2:] == [LOST, LOST]
     assert ab.ok and ab.n_points == 5 and ab.n_zero == 2 and ab.bracket == (0.384, 0.898)
     assert all(g.in_fit for g in st.groups)
-    # whatever the fit, the page never calls a sigma~_c inside the bracket a measurement
-    assert st.sigma_c_status in ("pinned", "undefined")
+    # the two lost groups are given to the fit but left out of it (issue 34: their weight
+    # swung from 0.43 (creeping) to 5.3e4 (flat)); three rising points, one dof
+    assert ab.n_active == 3 and ab.dof == 1 and ab.lost == "out"
     assert st.status != "fitted" or not ab.poor
 
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import yaml
 
+from fibril_hpc.campaign.analysis.verdict_text import ci_method
 from fibril_hpc.campaign.analysis import seed_limits as sl
 from fibril_hpc.campaign.analysis.data import CampaignData
 from fibril_hpc.campaign.analysis.headline import seeds_line
@@ -124,34 +125,72 @@ def test_report_status_and_export_read_a_grid_whose_seeds_and_sigma_are_auto(tmp
     assert len(rows) == len(recs)
 
 
-def test_coupled_resamples_give_every_group_a_bootstrap_of_its_own_seeds():
-    from fibril_hpc.campaign.laws.intervals import coupled_replicates
+def test_paired_resamples_draw_a_seed_once_for_every_group_that_holds_it():
+    """A seed is the same brush at every sigma~: one resample is one multiset of labels from
+    the union, and every group takes the drawn labels it holds, each as often as drawn (issue
+    34: the labels were drawn per set, comonotone, not paired)."""
+    from fibril_hpc.campaign.laws.intervals import paired_replicates
 
     sets = [list(range(10)), [0, 1, 2], [0, 1, 2, 3, 4]]
     seen = []
 
     def stat(picks):
-        seen.append([list(p) for p in picks])
+        seen.append([np.asarray(p) for p in picks])
         return [0.0]
 
-    assert coupled_replicates(sets, stat, 2000, 0).shape == (1, 2000)
-    for i, s in enumerate(sets):
-        picks = np.concatenate([np.asarray(r[i]) for r in seen])
-        assert all(len(r[i]) == len(s) for r in seen)            # never another size
-        counts = np.bincount(picks, minlength=len(s))
-        assert set(picks.tolist()) == set(s)
+    assert paired_replicates(sets, stat, 2000, 0).shape == (1, 2000)
+    redrawn = 0
+    for r in seen:
+        assert len(r[0]) == 10                      # the union's group: all ten draws
+        for g in (1, 2):
+            assert set(r[g].tolist()) <= set(sets[g]) and len(r[g]) >= 2
+            held = np.isin(r[0], sets[g])
+            if held.sum() >= 2:                     # paired: the same labels, as often
+                assert sorted(r[g].tolist()) == sorted(r[0][held].tolist())
+            else:                                   # redrawn within the group, its own size
+                assert len(r[g]) == len(sets[g])
+                redrawn += g == 1
+    # P(fewer than 2 of 10 draws in a 3-set) = 0.149
+    assert 0.11 < redrawn / len(seen) < 0.19
+    for g, s in enumerate(sets):
+        picks = np.concatenate([r[g] for r in seen])
+        counts = np.bincount(picks, minlength=len(s))[:len(s)]
         assert np.all(np.abs(counts / counts.sum() - 1 / len(s)) < 0.02)   # uniform
-    # sets sharing seeds are resampled alike: the first seed of the 3-set is picked with the
-    # first ones of the 10-set
-    first = [r[0][0] for r in seen if r[1][0] == 0]
-    assert np.mean(first) < 2.0
-    assert coupled_replicates([[0], [1]], stat, 10) is None
+        # the mean size is the group's own: E[1/size] close to 1/n
+        assert np.mean([1 / len(r[g]) for r in seen]) == pytest.approx(1 / len(s), rel=0.15)
+    assert paired_replicates([[0], [1]], stat, 10) is None
+    # a group of one seed always takes it
+    one = []
+    paired_replicates([[0, 1, 2], [2]], lambda p: one.append(p[1].tolist()) or [0.0], 50)
+    assert all(set(x) == {2} for x in one)
 
 
-def test_a_group_with_fewer_seeds_gets_its_own_interval_not_a_random_sized_one():
-    """seeds: auto leaves groups with 3 and 10 seeds under one k~: the report resamples each
-    group's own seeds (the sizes are pinned by the test above), and the 3-seed group's plateau
-    interval is close to the one the planner judged, a bootstrap of its 3 seeds alone."""
+def test_paired_resamples_keep_the_correlation_of_groups_sharing_seeds():
+    """issue 34: a 10-seed and a 3-seed group with the same per-seed values: resampled means
+    correlated at 0.115 (comonotone labels); paired, they share the 3 seeds' draws (the design's
+    correlation, sqrt(3/10) = 0.55, is the ceiling). Disjoint seed sets stay independent."""
+    from fibril_hpc.campaign.laws.intervals import paired_replicates
+
+    rng = np.random.default_rng(0)
+    rho, rho_disjoint = [], []
+    for t in range(10):
+        v = rng.standard_normal(20)
+
+        def stat(p, v=v):
+            return [v[p[0]].mean(), v[p[1]].mean()]
+
+        r = paired_replicates([range(10), range(3)], stat, 1000, t)
+        rho.append(np.corrcoef(r)[0, 1])
+        r = paired_replicates([range(10), range(10, 13)], stat, 1000, t)
+        rho_disjoint.append(np.corrcoef(r)[0, 1])
+    assert 0.25 < np.mean(rho) < 0.55, np.mean(rho)
+    assert abs(np.mean(rho_disjoint)) < 0.05
+
+
+def test_a_group_with_fewer_seeds_gets_an_interval_of_its_own_seeds_width():
+    """seeds: auto leaves groups with 3 and 10 seeds under one k~: the report resamples seed
+    labels paired across them (the sizes are checked by the test above), and the 3-seed group's
+    plateau interval is close to the one the planner judged, a bootstrap of its 3 seeds alone."""
     from fibril_hpc.campaign.laws.precision import group_precision
     from fibril_hpc.campaign.laws.study import study_k
 
@@ -159,7 +198,7 @@ def test_a_group_with_fewer_seeds_gets_its_own_interval_not_a_random_sized_one()
     pts = {0.2: group(t, 10, PRE, rng=5), 0.4: group(t, 3, PRE, rng=6)}
     st = study_k(1.0, pts, n_boot=400, floor=FLOOR)
     few = st.groups[1]
-    assert few.n_seeds == 3 and "own seeds" in st.ci_method
+    assert few.n_seeds == 3 and "paired across sigma~" in ci_method(st)
     lo, hi = few.plateau_ci
     own = group_precision(*pts[0.4], floor=FLOOR, width=0.2, n_boot=400)
     w, w_own = hi - lo, own.plateau_ci[1] - own.plateau_ci[0]

@@ -10,6 +10,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from fibril_hpc.campaign.analysis.verdict_text import why_out
 from fibril_hpc.campaign.laws import reading
 from fibril_hpc.campaign.laws.intervals import small_sample_factor
 from fibril_hpc.campaign.laws.study import study_k
@@ -124,17 +125,18 @@ def test_alpha_beta_and_sigma_c_of_a_law_campaign_with_lost_groups():
         assert st_.status == "fitted"
         held += (st_.alpha_ci[0] <= alpha <= st_.alpha_ci[1]
                  and st_.beta_ci[0] <= beta <= st_.beta_ci[1])
-        # the line's zero falls inside the data bracket: pinned, the bracket is the measurement
-        assert st_.sigma_c_status == "pinned" and "bracket" in st_.sigma_c_why
+        # the lost groups are out of the fit: the line's zero is an extrapolation of the rising
+        # c, and it lies within the measured loss (the law is true here)
+        assert st_.verdict.zero == "extrapolated" and st_.loss_vs_law == "within"
     assert held >= 3
 
 
-def test_sigma_c_beyond_the_grid_is_measured_by_the_law_and_its_interval_holds_it():
+def test_a_zero_beyond_the_grid_is_an_extrapolation_and_its_interval_holds_it():
     alpha, beta = 2.0, 0.5                                 # sigma~_c = 4, beyond the grid
     pts, _ = law_campaign(alpha, beta, (0.07, 0.164, 0.384, 0.898, 2.1), seeds=6, rng=5,
                           c_sd=0.05)
     st_ = study_k(1.0, pts, n_boot=100, floor=FLOOR)
-    assert st_.status == "fitted" and st_.sigma_c_status == "measured"
+    assert st_.status == "fitted" and st_.verdict.zero == "extrapolated"
     assert st_.sigma_c_ci[0] <= 4.0 <= st_.sigma_c_ci[1]
 
 
@@ -147,14 +149,14 @@ def test_a_law_the_data_do_not_follow_is_never_called_fitted():
         t = Truth("sharp", c, 1.5, c_sd=0.02)
         pts[s] = group(t, 5, tuple(np.geomspace(1.5 / c / 300, 12 / c, 12)), rng=i)
     st_ = study_k(1.0, pts, n_boot=60, floor=FLOOR)
-    assert st_.status in ("poor fit", "undefined") and st_.sigma_c_status == "undefined"
+    assert st_.status in ("poor fit", "undefined") and st_.verdict.zero == "none"
     # c that does not depend on sigma~: alpha consistent with 0, the law undefined
     flat = {s: group(Truth("sharp", 30.0, 1.5, c_sd=0.1), 5,
                      tuple(np.geomspace(1.5 / 30 / 300, 12 / 30, 12)), rng=10 + i)
             for i, s in enumerate(sig)}
     st2 = study_k(1.0, flat, n_boot=60, floor=FLOOR)
     assert st2.status in ("undefined", "poor fit")
-    assert st2.sigma_c_status == "undefined"
+    assert st2.verdict.zero == "none" and st2.loss_vs_law == ""
 
 
 def test_unresolved_groups_stay_out_of_the_fit_and_lost_ones_enter_as_zero():
@@ -164,6 +166,6 @@ def test_unresolved_groups_stay_out_of_the_fit_and_lost_ones_enter_as_zero():
     st_ = study_k(1.0, pts, n_boot=60, floor=FLOOR)
     g = {g.sigma_tilde: g for g in st_.groups}
     assert g[0.01].reading.state == reading.UNRESOLVED and not g[0.01].in_fit
-    assert "lower bound" in g[0.01].why_out
+    assert "lower bound" in why_out(g[0.01])
     assert g[2.1].reading.state == reading.LOST and g[2.1].in_fit and g[2.1].reading.c == 0
     assert 0.01 not in st_.ab.sigmas and 2.1 in st_.ab.sigmas

@@ -13,15 +13,16 @@ import numpy as np
 from ..laws import loss as _loss
 from ..laws.alphabeta import model as ab_model
 from .figures import FA, KT, SIG, colour, err, legend, save, say, subplots
+from .loss_page import measured_span
+from .notation import page_text
+from .verdict_text import LAW_REASON_WORDS, law_why
 from .zero_cell import law_zero
 
 
 def _ab_label(k, st) -> str:
     a = st.ab
     if st.status == "undefined":
-        why = (st.status_why or "no fit").split(" [")[0].split(":")[0]
-        if "consistent with 0" in (st.status_why or ""):
-            why = "α consistent with 0"
+        why = page_text(LAW_REASON_WORDS.get(st.verdict.law_reason, "")) or "no fit"
         return f"{KT}={k:g}: α, β undefined ({why})"[:72]
     flag = " — POOR FIT" if st.status == "poor fit" else ""
     z = law_zero(st)[0]
@@ -208,8 +209,8 @@ def alpha_sigma_c(data, out_dir, name="alpha_sigma_c.png"):
     values say why."""
     fig, axes = subplots(1, 3, figsize=(14, 4.4))
     ks = [k for k, st in data.studies.items() if st.ab.ok and st.status != "undefined"]
-    why = "; ".join(f"{KT}={k:g}: {st.status_why}" for k, st in data.studies.items()
-                    if st.status == "undefined" and st.status_why)
+    why = "; ".join(f"{KT}={k:g}: {page_text(law_why(st))}" for k, st in data.studies.items()
+                    if st.status == "undefined" and law_why(st))
     for ax, (name_, attr, ci) in zip(axes, (("α", "alpha", "alpha_ci"), ("β", "beta", "beta_ci"),
                                              (f"{SIG}$_c$", "sigma_c", "sigma_c_ci"))):
         if attr == "sigma_c":
@@ -253,12 +254,17 @@ def _sigma_c_panel(ax, data) -> bool:
     triangle at the largest sigma~ run where none lost adhesion), and the line's zero alpha/beta
     as an open diamond, an extrapolation beside them. The axis is the measurements': a zero
     beyond it is drawn at the edge as a triangle."""
-    drawn, zeros = False, []
+    drawn, above, wide, zeros = False, False, False, []
     for k, st in data.studies.items():
         lo, hi = st.loss_bracket
         if st.loss_kind == _loss.BRACKET:
             ax.plot([k, k], [lo, hi], "-", color="0.6", lw=6, alpha=0.6,
                     label="bracket (lo, hi]" if not drawn else None)
+            s_lo, s_hi = measured_span(st)
+            if (s_lo, s_hi) != (lo, hi) and math.isfinite(s_hi) and s_lo > 0:
+                ax.plot([k, k], [s_lo, s_hi], "-", color="0.2", lw=1,
+                        label=None if wide else "span: lost in (lo, hi]")
+                wide = True
             s, ci = st.sigma_loss, st.sigma_loss_ci
             if math.isfinite(s):
                 ax.errorbar([k], [s], yerr=np.array([err(s, ci)]).T, fmt="o", capsize=3,
@@ -266,7 +272,8 @@ def _sigma_c_panel(ax, data) -> bool:
             drawn = True
         elif st.loss_kind == _loss.NO_LOSS and math.isfinite(lo):
             ax.plot([k], [lo], "^", color="0.5", ms=7, mfc="none",
-                    label=f"{SIG}$_c$ > the largest {SIG} run")
+                    label=None if above else f"{SIG}$_c$ > the largest {SIG} run")
+            above = True
             drawn = True
         z = law_zero(st)[0]
         if math.isfinite(z):

@@ -13,10 +13,12 @@ import numpy as np
 
 from ..laws import loss as _loss
 from ..laws.alphabeta import model as ab_model
-from ..laws.loss import fmt_ci
 from ..laws.reading import FEW_PILLARS, LOST, RESOLVED, UNRESOLVED
 from .figures import FA, KT, SIG, err, save, say, subplots
-from .zero_cell import NO_ZERO, law_zero
+from .loss_page import measured_span, span_text
+from .notation import page_text
+from .verdict_text import NO_ZERO_WORDS, RELATION_WORDS, fmt_ci
+from .zero_cell import law_zero
 
 #: panels per row of the grid (one k~ per column: c above, the plateau below)
 COLUMNS = 4
@@ -100,9 +102,15 @@ def _plateau_panel(ax, st, gs, floor):
 
 
 def _marks(ax, st):
-    """The bracket (grey band) and the measured sigma~_c with its interval (red line, band)."""
+    """The bracket (grey band), the span where it is wider (grey dashed ends: the interval the
+    headline gives, :func:`.loss_page.measured_span`) and the measured sigma~_c with its interval
+    (red line, band)."""
     lo, hi = st.loss_bracket
     ax.axvspan(lo, hi, color=BRACKET_C, alpha=0.15, lw=0, label="bracket (lo, hi]")
+    ends = [x for x, b in zip(measured_span(st), (lo, hi)) if x != b and math.isfinite(x)]
+    for i, x in enumerate(ends):
+        ax.axvline(x, color="0.45", ls="--", lw=1,
+                   label=None if i else "span: lost in (lo, hi] (states not certain, seed CI)")
     if math.isfinite(st.sigma_loss):
         a, b = st.sigma_loss_ci
         if math.isfinite(a) and math.isfinite(b) and b > a:
@@ -111,13 +119,17 @@ def _marks(ax, st):
 
 
 def _title(k, st) -> str:
-    head = f"{KT} = {k:g}: {SIG}$_c$ = {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} (measured)"
+    if st.loss_kind == _loss.BRACKET and math.isfinite(st.sigma_loss):
+        # one number and one interval, the headline's: the span the zero is set against
+        head = (f"{KT} = {k:g}: {SIG}$_c$ = {st.sigma_loss:.3g} in "
+                f"{span_text(measured_span(st))} (measured)")
+    else:
+        head = f"{KT} = {k:g}: {SIG}$_c$ = {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} (measured)"
     z, _, rel, why = law_zero(st)
     if not math.isfinite(z):
-        return head + f"\nline's zero: none ({NO_ZERO[why]})"
-    where = {"within": "inside", "above": "above", "below": "below"}.get(rel)
-    return head + f"\nline's zero α/β = {z:.3g}" + (f", {where} the measured span" if where
-                                                    else "")
+        return head + f"\nline's zero: none ({page_text(NO_ZERO_WORDS[why])})"
+    where = RELATION_WORDS[rel].split(" (")[0] if rel else ""
+    return head + f"\nline's zero α/β = {z:.3g}" + (f", {where}" if where else "")
 
 
 def _not_drawn(data) -> str:

@@ -2,8 +2,10 @@
 
 **The headline** (:func:`headline`, at most :data:`MAX_LINES` lines) answers one question per
 k~: where this brush loses adhesion. One number and one interval per k~ (the measured sigma~_c,
-model-free, and the sigma~ run around it widened to its seed interval, as the alpha/beta table's
-first column gives them: :func:`.loss_page.measured_span`) and what it is of: the
+model-free, and its span: the sigma~ run around it widened to the crossing's seed interval and
+to the groups beside it whose state is not certain with their seeds, the interval alpha/beta's
+zero is set against, as the alpha/beta table's first column gives them:
+:func:`.loss_page.measured_span`) and what it is of: the
 brush (N pillars, phi), the preset and the seeds. Then one line on the law c = alpha/sigma~ -
 beta (fitted, poor or undefined per k~; its zero an extrapolation, in the table), and, only
 where something must be read before quoting the numbers, one line of cautions.
@@ -22,8 +24,10 @@ from ..laws import loss as _loss
 from ..laws.intervals import dominant
 from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED
 from ..laws.size import DIFFERS, WITHIN
+from ..laws.verdict import Relation
 from .loss_page import measured_span, search_max, span_text
 from .size_loss_page import headline_line as size_loss_line
+from .verdict_text import RELATION_WORDS, law_why, why_out
 from .zero_cell import law_zero
 
 #: the headline's most lines (issue 34: a page a referee reads in two minutes)
@@ -92,11 +96,12 @@ def _law_line(d) -> str:
     if by["undefined"]:
         parts.append(f"undefined for k̃ = {_ks(by['undefined'])}")
     rel = {}
-    for k, st in d.studies.items():
+    for k, st in d.studies.items():             # law_zero: st.verdict's relation, if a zero
         r = law_zero(st)[2]
-        if r in ("above", "below"):
+        if r in (Relation.ABOVE, Relation.BELOW):
             rel.setdefault(r, []).append(k)
-    where = "; ".join(f"{r} the measured span for k̃ = {_ks(ks)}" for r, ks in rel.items())
+    where = "; ".join(f"{RELATION_WORDS[r].split(' (')[0]} for k̃ = {_ks(ks)}"
+                      for r, ks in rel.items())
     return (f"c = α/σ̃ − β ({n} k̃): " + "; ".join(parts) + ". Its zero α/β is an "
             "extrapolation of that line, given beside the measurement in the α/β table"
             + (f" ({where})" if where else "") + ".")
@@ -108,7 +113,7 @@ def _cautions(d) -> list:
     if bad:
         out.append(f"{bad} of {d.n_jobs} jobs failed or gave non-finite forces (left out)")
     unsure = [k for k, st in d.studies.items() if st.loss_kind == _loss.BRACKET
-              and measured_span(st) != tuple(st.loss_bracket)]
+              and st.loss.uncertain]
     if unsure:
         out.append(f"for k̃ = {_ks(unsure)} a group beside the loss is not certainly lost or "
                    "holding with its seeds (its interval is widened to hold it)")
@@ -130,7 +135,8 @@ def headline(d) -> list:
     smax = search_max(d.meta)
     lines = [f"Where this brush loses adhesion, σ̃_c per k̃ (model-free: the σ̃ where the "
              f"seed-mean plateau falls to {FEW_PILLARS:g} pillars' pull-off; lost in: the σ̃ "
-             f"run around it, widened to its seed interval), of {of_what(d)}:",
+             f"run around it, widened to its seed interval and to any σ̃ beside it whose state "
+             f"its seeds leave uncertain), of {of_what(d)}:",
              "; ".join(_loss_value(k, st, smax) for k, st in d.studies.items()) + ".",
              _law_line(d)]
     if getattr(d, "size_loss", None):
@@ -163,19 +169,19 @@ def notes(d) -> list:
                    "resolve it).")
     if states.get(LOST):
         out.append(f"{states[LOST]} (k̃, σ̃) have lost adhesion (a plateau within "
-                   f"{FEW_PILLARS:g} pillars' pull-off): c = 0 by that threshold, a point of "
-                   "the α/β fit.")
+                   f"{FEW_PILLARS:g} pillars' pull-off): c = 0 by that threshold, left out of "
+                   "the α/β line, whose zero is set beside the measured loss.")
     undefined = [k for k, st in d.studies.items() if st.status == "undefined"]
     if undefined:
         left: dict = {}
         for k in undefined:
             for g in d.studies[k].groups:
-                if g.why_out:
-                    left.setdefault(g.why_out.split(":")[0], []).append(
+                if g.out:
+                    left.setdefault(why_out(g).split(":")[0], []).append(
                         f"({k:g}, {g.sigma_tilde:g})")
         why = "; ".join(f"{w}: {', '.join(v)}" for w, v in left.items())
         out.append("α and β undefined: " + "; ".join(
-            f"k̃ = {k:g}: {d.studies[k].status_why}" for k in undefined)
+            f"k̃ = {k:g}: {law_why(d.studies[k])}" for k in undefined)
             + (f". Left out of the fit: {why}" if why else "") + "."
             # the grid advice where too few sigma~ could be fitted, not where the law was
             # fitted and failed (alpha consistent with 0 on many rising groups)

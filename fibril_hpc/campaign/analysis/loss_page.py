@@ -8,18 +8,16 @@ from __future__ import annotations
 import math
 
 from ..laws import loss as _loss
-from ..laws.loss import fmt_ci
+from .verdict_text import fmt_ci
 
 
 def measured_span(st) -> tuple:
-    """The honest interval of one k~'s measured sigma~_c: its bracket (lo, hi], widened where a
-    state beside the loss is not certain with its seeds (``laws.loss.Loss.span``; without it,
-    to the crossing's seed interval where that reaches beyond the bracket)."""
-    loss = getattr(st, "loss", None)
-    if loss is not None and hasattr(loss, "span"):
-        return tuple(loss.span) if loss.uncertain else tuple(st.loss_bracket)
-    (lo, hi), (a, b) = st.loss_bracket, st.sigma_loss_ci
-    return (min(lo, a) if math.isfinite(a) else lo, max(hi, b) if math.isfinite(b) else hi)
+    """The honest interval of one k~'s measured sigma~_c, the one :mod:`..laws.verdict` sets
+    alpha/beta's zero against (:attr:`..laws.loss.Loss.span`): its bracket (lo, hi], widened to
+    the groups beside the loss whose state is not certain with their seeds and to the crossing's
+    seed interval (an infinite end stays infinite); the bracket where no span was made."""
+    span = tuple(st.loss.span)
+    return tuple(st.loss_bracket) if any(math.isnan(x) for x in span) else span
 
 
 def span_text(span) -> str:

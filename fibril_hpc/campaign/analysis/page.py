@@ -42,24 +42,31 @@ DEFINITIONS = """\
 * **c₀** (the first-contact slope): the geometric mean of F̃_A/F̃_P over the preloads in the first
   quarter of the rise, where a few pillars carry the pull-off. It depends on the smallest preload
   (given beside it).
-* **Measured σ̃_c** (model-free, the headline's number): per k̃, the first lost σ̃ with a σ̃
-  holding adhesion below it brackets the loss; σ̃_c is where the seed-mean plateau crosses 3
-  pillars' pull-off between the two (log–log), its interval from the same bootstrap.
-* **α, β** and the **zero of the line**: c = max(α/σ̃ − β, 0) fitted per k̃
-  (scipy.optimize.least_squares, weights from the seed scatter of c); groups that lost adhesion
-  enter with c = 0; σ̃ = 0, plateaus not reached and rises not resolved do not. The law is
-  *fitted* only when χ² is below its 99 % point and α's interval excludes 0; a *poor fit* is
-  shown for orientation; otherwise *undefined*, with the reason. Where the line is fitted and
-  β's interval excludes 0 its zero α/β is given as what it is, an extrapolation of the line,
-  described against the measured span: *inside*, *above* (the line still gives c > 0 where
-  adhesion is lost) or *below* it. It is never a second σ̃_c.
-* **Errors**: [seed CI] is a bootstrap over seeds (seed labels resampled jointly for a k̃, every
-  reading redone), its 2.5–97.5 % range widened about the value by t/z·√(n/(n−1)) for n seeds
-  (over synthetic groups of known truth it then held the true c in 90 % of draws at 3 seeds and
-  94–97 % at 5–10). **bias** is the preset's discretisation error of F̃_A measured against the
-  converged reference of the default scene (benchmarks/NOTES.md §27b), carried to every
-  force-like number as a relative error (σ̃_c, a ratio, is unaffected). **larger error** names
-  the one that dominates.
+* **Measured σ̃_c** (model-free, the headline's number): per k̃, the crossing of the seed-mean
+  plateau with 3 pillars' pull-off between the last σ̃ holding adhesion and the first lost
+  (log–log), its seed interval from the bootstrap over seed labels paired across σ̃. Its **span**
+  ("lost in (lo, hi]", the interval to quote): that bracket widened to the next σ̃ whose state is
+  certain with its seeds (plateau interval not holding the threshold) and to the crossing's
+  interval; an infinite end stays infinite.
+* **α, β** and the **zero of the line**: c = max(α/σ̃ − β, 0) fitted per k̃ to the groups whose
+  rise is resolved (scipy.optimize.least_squares, weights 1/sd of c from the seeds, sd widened
+  by √(n/(n−1))); groups that lost adhesion are left out of the line; σ̃ = 0, plateaus not reached
+  and rises not resolved do not enter. *fitted* needs at least 3 active points and 1 degree of
+  freedom, χ² below the 99 % point of a sum of Student t² (each sd from few seeds) and α's
+  interval excluding 0; a *poor fit* is shown for orientation only; otherwise *undefined*, with
+  the reason. α/β is the line's zero, an extrapolation of c(σ̃), shown only for a fitted law
+  whose β interval excludes 0, and described against the measured span: *inside* (the
+  intervals overlap, both bounded), *above* (the line still gives c > 0 where adhesion is lost)
+  or *below* it (wholly beyond the span), else nothing (e.g. an interval reaching ∞). It is
+  never a second σ̃_c.
+* **Errors**: [seed CI] is a bootstrap over seeds (seed labels resampled jointly for a k̃: a
+  label drawn picks that seed at every σ̃ that has it (paired; `seeds: auto` groups take the
+  drawn labels they hold), every reading redone), its 2.5–97.5 % range widened about the value
+  by t/z·√(n/(n−1)) for n seeds (over synthetic groups of known truth it then held the true c in
+  90 % of draws at 3 seeds and 94–97 % at 5–10). **bias** is the preset's discretisation error
+  of F̃_A measured against the converged reference of the default scene (benchmarks/NOTES.md
+  §27b), carried to every force-like number as a relative error (σ̃_c, a ratio, is unaffected).
+  **larger error** names the one that dominates.
 """
 
 

@@ -19,6 +19,8 @@ from ..laws.intervals import dominant
 from ..laws.size import DIFFERS
 from .loss_page import measured_cell
 from .notation import clauses, once, page_text
+from .verdict_text import (ab_notes, ci_method, law_why, line_out, loss_note, relation_why,
+                           study_notes)
 from .zero_cell import zero_cell
 
 
@@ -100,8 +102,8 @@ def _ab_note(st) -> str:
     """The alpha/beta row's note, each clause once: why the law is not fitted, what the loss
     adds to the measured cell (an uncertain state, adhesion found again), the fit's notes.
     The zero's relation to the loss is its own cell (:func:`.zero_cell.zero_cell`)."""
-    extra = clauses(st.loss_note)[1:]
-    return once([st.status_why] + extra + st.ab.notes + st.notes)
+    extra = clauses(loss_note(st))[1:]
+    return once([law_why(st)] + extra + ab_notes(st.ab) + study_notes(st))
 
 
 def alpha_beta(d) -> Table:
@@ -118,27 +120,29 @@ def alpha_beta(d) -> Table:
                        "sigma_tilde_c_measured_lo", "sigma_tilde_c_measured_hi", "loss_kind",
                        "loss_bracket_lo", "loss_bracket_hi", "loss_vs_law", "loss_vs_law_why",
                        "note"])
-    t.page_rows.append(["k̃", "σ̃_c measured: adhesion lost [seed CI] in its bracket "
+    t.page_rows.append(["k̃", "σ̃_c measured: adhesion lost [seed CI] in its span "
                         "(model-free)", "law", "α [seed CI]", "β [seed CI]",
                         "zero of the line, α/β: an extrapolation [seed CI]",
-                        "σ̃ in fit (c = 0)", "χ²/dof", "bias of α", "larger error", "note"])
+                        "σ̃ active in fit (lost, left out)", "χ²/dof", "bias of α",
+                        "larger error", "note"])
     for k, st in d.studies.items():
         a = st.ab
         note = _ab_note(st)
         dom = dominant(a.alpha, st.alpha_ci, d.bias)
-        t.csv_rows.append([repr(k), st.status, num(a.alpha), *_ci_csv(st.alpha_ci), num(a.beta),
+        t.csv_rows.append([repr(k), str(st.status), num(a.alpha), *_ci_csv(st.alpha_ci),
+                           num(a.beta),
                            *_ci_csv(st.beta_ci), num(a.sigma_c), *_ci_csv(st.sigma_c_ci),
-                           st.sigma_c_status, num(a.bracket[0]), num(a.bracket[1]),
-                           str(a.n_points), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
-                           num(d.bias), dom, st.ci_method, num(st.sigma_loss),
+                           str(st.verdict.zero), num(a.bracket[0]), num(a.bracket[1]),
+                           str(a.n_active), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
+                           num(d.bias), dom, ci_method(st), num(st.sigma_loss),
                            *_ci_csv(st.sigma_loss_ci), st.loss_kind, num(st.loss_bracket[0]),
-                           num(st.loss_bracket[1]), st.loss_vs_law, st.loss_vs_law_why, note])
+                           num(st.loss_bracket[1]), str(st.loss_vs_law), relation_why(st), note])
         shown = st.status != "undefined"
         law = st.status if st.status == "fitted" else f"**{st.status}**"
         t.page_rows.append([f"{k:g}", measured_cell(st), law,
                             val_ci(a.alpha, st.alpha_ci) if shown else "—",
                             val_ci(a.beta, st.beta_ci) if shown else "—", zero_cell(st),
-                            f"{a.n_points} ({a.n_zero})", fmt(a.chi2_red, ".3g")
+                            f"{a.n_active} ({a.n_zero})", fmt(a.chi2_red, ".3g")
                             + (" **poor fit**" if a.poor else ""),
                             bias_cell(a.alpha, d.bias) if shown else "—", dom, note])
     return t
@@ -216,17 +220,17 @@ def coefficients(d) -> Table:
         res = dict(zip(st.ab.sigmas, st.ab.residuals))
         for g in st.groups:
             r = g.reading
-            rr = res.get(g.sigma_tilde, math.nan) if g.in_fit else math.nan
+            out = line_out(g, st.ab)
+            rr = res.get(g.sigma_tilde, math.nan) if not out else math.nan
             dom = dominant(r.c, g.c_ci, d.bias)
             note = once(r.c_notes)
             t.csv_rows.append([repr(k), repr(g.sigma_tilde), r.state, num(r.c), *_ci_csv(g.c_ci),
                                num(r.c_res), num(r.c_lower), num(r.c_stage), num(r.c_chord), str(r.n_stage),
                                num(r.F_P_half), num(r.resolve_below), num(r.c0),
                                *_ci_csv(g.c0_ci), num(r.F_P0), num(r.F_A0), num(r.c_detect),
-                               str(g.in_fit).lower(), num(rr), num(d.bias), dom, g.why_out,
-                               note])
-            fitcell = (f"yes: {fmt(rr, '+.3g')}" if g.in_fit and st.ab.ok
-                       else ("yes (no fit)" if g.in_fit else f"no: {g.why_out}"))
+                               str(not out).lower(), num(rr), num(d.bias), dom, out, note])
+            fitcell = (f"no: {out}" if out else
+                       (f"yes: {fmt(rr, '+.3g')}" if st.ab.ok else "yes (no fit)"))
             t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", _state_cell(r), _c_cell(r, g.c_ci),
                                 fmt(r.F_P_half, ".3g"), val_ci(r.c0, g.c0_ci), fmt(r.F_P0, ".3g"),
                                 fitcell, bias_cell(r.c, d.bias), dom, _c_page_note(r)])

@@ -3,14 +3,16 @@
 **Seed interval.** Seeds are the independent realisations of a (k~, sigma~), so the interval
 comes from resampling seeds with replacement (``scipy.stats.bootstrap``, one resample = one
 multiset of seed labels, the whole reading redone on it) and taking the 2.5 and 97.5 %
-percentiles of the replicates. With n seeds there are only C(2n-1, n) distinct resamples (10 for
-three seeds), and the percentile interval of a seed mean is a normal interval on the plug-in sd:
-over synthetic groups of known truth it held the true c in 67-81 % of draws at 3 seeds, 81-85 %
-at 5 and 87-92 % at 10 (benchmarks/NOTES.md, "Seed intervals against known truth"). The study
-therefore widens it about its value by :func:`small_sample_factor` (Student t over the normal,
-unbiased over plug-in sd), which brings the coverage to the level claimed. A replicate that
-cannot be formed (a sigma~_c whose beta <= 0) counts as +inf: the upper end of the interval is
-then unbounded.
+percentiles of the replicates. A seed is the same brush at every sigma~ (and every group it is
+in), so a resample picks a label in every group that holds it: paired across groups, also where
+groups hold different seed sets (:func:`paired_replicates`). With n seeds there are only C(2n-1,
+n) distinct resamples (10 for three seeds), and the percentile interval of a seed mean is a
+normal interval on the plug-in sd: over synthetic groups of known truth it held the true c in
+67-81 % of draws at 3 seeds, 81-85 % at 5 and 87-92 % at 10 (benchmarks/NOTES.md, "Seed
+intervals against known truth"). The study therefore widens it about its value by
+:func:`small_sample_factor` (Student t over the normal, unbiased over plug-in sd), which brings
+the coverage to the level claimed. A replicate that cannot be formed (a sigma~_c whose beta <=
+0) counts as +inf: the upper end of the interval is then unbounded.
 
 **Discretisation bias.** The converged-reference study (``benchmarks/accuracy/``,
 ``benchmarks/NOTES.md`` §27b) measured F~_A of the default scene (18 x 18 pillars, F~_P = 4)
@@ -74,27 +76,41 @@ def seed_replicates(labels, statistic, n_boot: int, rng_seed: int = 0):
     return d.reshape(-1, d.shape[-1])
 
 
-def coupled_replicates(label_sets, statistic, n_boot: int, rng_seed: int = 0):
-    """Bootstrap replicates over seeds for groups that hold *different* seed sets (``seeds:
-    auto`` gives a group only the seeds it needs): ``statistic(picks) -> 1-d array``, ``picks``
-    one array of resampled labels per set.
+def paired_replicates(label_sets, statistic, n_boot: int, rng_seed: int = 0):
+    """Bootstrap replicates over seed *labels*, paired across groups: ``statistic(picks) ->
+    1-d array``, ``picks`` one array of resampled labels per set (``label_sets``: the seeds of
+    each group; ``seeds: auto`` gives a group only the seeds it needs).
 
-    Each replicate draws N uniforms u (N: the largest set); a set of n labels takes label
-    ``floor(u_m n)`` for m < n: an ordinary bootstrap resample of its own n seeds, never a
-    resample of another size, and sets that share seeds are resampled alike (a small u picks
-    the first seeds of every set), so numbers read across groups keep their correlation.
-    Returns an array (n_values, n_boot), or None when no set holds two seeds or ``n_boot < 1``.
+    A seed is the same height pattern in every group it is in, so one replicate is one multiset
+    of labels drawn with replacement from the *union* of the sets (as many draws as the union
+    has labels), and each group takes, with their multiplicity, the drawn labels that it holds:
+    a seed drawn twice counts twice in every group that has it, and numbers read across groups
+    keep their correlation through the seeds. Groups that hold the same seeds get the same
+    multiset (the ordinary paired bootstrap); a group with n of the union's N seeds gets a
+    binomial(N, n/N) number of them, whose mean 1/size is close to 1/n (0.333 for 3 of 10,
+    against 1/3), so its interval has its own seeds' width on average.
+
+    A group left with fewer than two drawn labels (it cannot show a spread) draws its own
+    ordinary resample of its n seeds instead, for that replicate alone (unpaired there); a
+    group of one seed always takes it. Returns an array (n_values, n_boot), or None when no set
+    holds two seeds or ``n_boot < 1``.
     """
     sets = [np.asarray(sorted(set(s))) for s in label_sets]
-    n_max = max((len(s) for s in sets), default=0)
-    if n_max < 2 or n_boot < 1:
+    if max((len(s) for s in sets), default=0) < 2 or n_boot < 1:
         return None
+    union = np.asarray(sorted(set().union(*(s.tolist() for s in sets))))
+    member = [np.isin(union, s) for s in sets]
     rng = np.random.default_rng(rng_seed)
     out = []
     with np.errstate(all="ignore"):
         for _ in range(int(n_boot)):
-            u = rng.random(n_max)
-            picks = [s[(u[:len(s)] * len(s)).astype(int)] for s in sets]
+            drawn = rng.integers(0, union.size, union.size)
+            picks = []
+            for g, s in enumerate(sets):
+                mine = union[drawn[member[g][drawn]]]
+                if mine.size < min(2, s.size):          # redrawn within the group
+                    mine = s[rng.integers(0, s.size, s.size)]
+                picks.append(mine)
             out.append(np.atleast_1d(np.asarray(statistic(picks), dtype=float)))
     return np.array(out).T
 
