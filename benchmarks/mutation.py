@@ -1,0 +1,185 @@
+"""Mutation testing of the statistics and the search (issue 34): mutmut over a module list, each
+module against a list of fast, targeted test files, and the score table.
+
+    python benchmarks/mutation.py                       # the issue-34 scope (SCOPE below)
+    python benchmarks/mutation.py --only precision      # the SCOPE entries whose module matches
+    python benchmarks/mutation.py --modules fibril_hpc/campaign/laws/size.py \
+        --tests tests/test_campaign_size.py              # any module list against any test list
+    python benchmarks/mutation.py --table               # the table of the last run, no rerun
+
+Each run copies the checkout's files (tracked and untracked-but-not-ignored: fibril_hpc/,
+tests/, pyproject.toml) to ``.mutation/<name>/`` (ignored by git), writes the ``[tool.mutmut]``
+section of that copy's pyproject.toml (``only_mutate`` the modules, the test files as
+``pytest_add_cli_args_test_selection``, ``-m "not slow"``), and runs ``mutmut run
+--max-children 1`` there under ``nice -n 15`` (one worker: the machine is shared). mutmut
+records which tests reach which function and runs, for each mutant, only those. The table
+counts per module: killed, survived, timeout, no tests (no selected test reaches the function),
+other (suspicious, segfault, not checked), and the score (killed + timeout) / total; survivors
+named in ``benchmarks/mutation_equivalent.txt`` (one ``name  reason`` a line) are counted as
+equivalent and the score without them is shown too. Survivors are written with their diffs to
+``.mutation/<name>/survivors-<module>.txt``. Nothing of it is committed: the dated scores go to
+benchmarks/NOTES.md ("Mutation testing (issue 34)").
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+WORK = ROOT / ".mutation"
+EQUIVALENT = ROOT / "benchmarks" / "mutation_equivalent.txt"
+
+#: module -> the fast test files that guard it (seconds per mutant, not minutes)
+SCOPE = {
+    "fibril_hpc/campaign/plan/search.py": ["tests/test_mutants_search.py"],
+    "fibril_hpc/campaign/laws/precision.py": ["tests/test_mutants_precision.py"],
+    "fibril_hpc/campaign/laws/reading.py": ["tests/test_mutants_reading.py",
+                                            "tests/test_report_truth.py"],
+}
+
+#: mutmut's exit-code meaning (mutmut.stats.status_by_exit_code), grouped for the table
+KILLED, SURVIVED, TIMEOUT, NO_TESTS = "killed", "survived", "timeout", "no tests"
+
+
+def _files() -> list[str]:
+    out = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "fibril_hpc", "tests",
+                          "pyproject.toml"], cwd=ROOT, check=True, capture_output=True,
+                         text=True).stdout.split("\n")
+    return [f for f in out if f and (ROOT / f).is_file()]
+
+
+def _toml_list(xs) -> str:
+    return "[" + ", ".join(json.dumps(str(x)) for x in xs) + "]"
+
+
+def prepare(work: Path, modules, tests) -> None:
+    """A fresh copy of the checkout in ``work`` with the mutmut settings of this run."""
+    if work.exists():
+        shutil.rmtree(work)
+    for f in _files():
+        dst = work / f
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / f, dst)
+    py = work / "pyproject.toml"
+    text = re.sub(r"(?ms)^\[tool\.mutmut\].*?(?=^\[|\Z)", "", py.read_text())
+    text += ("\n[tool.mutmut]\n"
+             'source_paths = ["fibril_hpc"]\n'
+             f"only_mutate = {_toml_list(modules)}\n"
+             f"pytest_add_cli_args_test_selection = {_toml_list(tests)}\n"
+             'pytest_add_cli_args = ["-m", "not slow", "-p", "no:cacheprovider"]\n'
+             "use_git_change_detection = false\n")
+    py.write_text(text)
+
+
+def run_mutmut(work: Path) -> int:
+    """``mutmut run`` in ``work``: one worker, low priority, the copy's code on the path."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env.update(NUMBA_CACHE_DIR=str(work / ".numba_cache"), OMP_NUM_THREADS="1",
+               OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1", NUMBA_NUM_THREADS="1")
+    mutmut = Path(sys.executable).with_name("mutmut")
+    cmd = ["nice", "-n", "15", str(mutmut), "run", "--max-children", "1"]
+    return subprocess.run(cmd, cwd=work, env=env).returncode
+
+
+def equivalents() -> dict:
+    """{mutant name: why it is equivalent} from benchmarks/mutation_equivalent.txt."""
+    out = {}
+    if EQUIVALENT.exists():
+        for line in EQUIVALENT.read_text().splitlines():
+            line = line.strip()
+            if line and not line.startswith("#"):
+                name, _, why = line.partition(" ")
+                out[name] = why.strip()
+    return out
+
+
+def statuses(work: Path, module: str) -> dict:
+    """{mutant name: status} of one module from mutmut's record in ``work``."""
+    from mutmut.stats import status_by_exit_code
+
+    meta = work / "mutants" / (module + ".meta")
+    if not meta.exists():
+        return {}
+    codes = json.loads(meta.read_text())["exit_code_by_key"]
+    return {k: status_by_exit_code[v] for k, v in codes.items()}
+
+
+def table(rows, equiv) -> str:
+    """The score table: one row per module (rows: [(module, {name: status})])."""
+    head = (f"{'module':40s} {'total':>5s} {'killed':>6s} {'surv.':>5s} {'t/o':>4s} "
+            f"{'no t.':>5s} {'other':>5s} {'score':>6s} {'equiv.':>6s} {'score-eq':>8s}")
+    lines = [head, "-" * len(head)]
+    for module, st in rows:
+        n = len(st)
+        c = {k: sum(v == k for v in st.values()) for k in (KILLED, SURVIVED, TIMEOUT, NO_TESTS)}
+        other = n - sum(c.values())
+        eq = sum(1 for k, v in st.items() if v == SURVIVED and k in equiv)
+        good = c[KILLED] + c[TIMEOUT]
+        score = 100 * good / n if n else float("nan")
+        score_eq = 100 * good / (n - eq) if n - eq else float("nan")
+        lines.append(f"{module:40s} {n:5d} {c[KILLED]:6d} {c[SURVIVED]:5d} {c[TIMEOUT]:4d} "
+                     f"{c[NO_TESTS]:5d} {other:5d} {score:5.1f}% {eq:6d} {score_eq:7.1f}%")
+    return "\n".join(lines)
+
+
+def survivors(work: Path, st: dict, equiv) -> str:
+    """The diffs of the mutants not killed (``mutmut show``), marked where listed equivalent."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    mutmut = Path(sys.executable).with_name("mutmut")
+    out = []
+    for name, status in sorted(st.items()):
+        if status in (KILLED, TIMEOUT):
+            continue
+        diff = subprocess.run([str(mutmut), "show", name], cwd=work, env=env,
+                              capture_output=True, text=True).stdout
+        mark = f"  [equivalent: {equiv[name]}]" if name in equiv else ""
+        out.append(f"## {name}: {status}{mark}\n{diff}")
+    return "\n".join(out)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--modules", nargs="+", help="module files to mutate (one mutmut run)")
+    ap.add_argument("--tests", nargs="+", help="test files or node ids to run against them")
+    ap.add_argument("--only", help="run the SCOPE entries whose module path contains this")
+    ap.add_argument("--table", action="store_true", help="print the last runs' table, no run")
+    args = ap.parse_args(argv)
+    if bool(args.modules) != bool(args.tests):
+        ap.error("--modules and --tests go together")
+    if args.modules:
+        plan = {"custom": (args.modules, args.tests)}
+    else:
+        plan = {Path(m).stem: ([m], t) for m, t in SCOPE.items() if args.only is None
+                or args.only in m}
+    equiv = equivalents()
+    rows = []
+    for name, (modules, tests) in plan.items():
+        work = WORK / name
+        if not args.table:
+            prepare(work, modules, tests)
+            rc = run_mutmut(work)
+            if rc not in (0,):
+                print(f"mutmut run in {work} exited {rc}", file=sys.stderr)
+        for m in modules:
+            st = statuses(work, m)
+            rows.append((m, st))
+            if not args.table and st:
+                (work / f"survivors-{Path(m).stem}.txt").write_text(survivors(work, st, equiv))
+    print(table(rows, equiv))
+    for m, st in rows:
+        left = sorted(k for k, v in st.items() if v not in (KILLED, TIMEOUT) and k not in equiv)
+        if left:
+            print(f"\n{m}: not killed, not listed equivalent:")
+            print("\n".join(f"  {k}: {st[k]}" for k in left))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
