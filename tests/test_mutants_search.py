@@ -184,9 +184,12 @@ def test_a_search_grid_refuses_what_it_cannot_run():
     assert e.startswith("sweep.k_spread: got [0.1, 0.2]; allowed: no lab-field sweep with seeds: "
                         "auto")
     # every end of the sigma~ range is a scene the grid can build (the scene allows <= 1000)
-    for cfg in ({"max": 2000}, {"max": 3000, "start": [1500]}):
+    for cfg, bad in (({"max": 2000}, "2000.0"), ({"max": 3000, "start": [1500]}, "3000.0")):
         e = _err(_spec, sigma={"auto": cfg})
-        assert e.startswith("sigma_tilde.auto: got ") and e.endswith("allowed: a number in [0, 1000]")
+        assert e == f"sigma_tilde.auto: got {bad}; allowed: a number in [0, 1000]"
+    # a search grid may sweep n_side (the one field it sweeps)
+    sized = _spec(scene={"phi": 0.16}, sweep={"n_side": [8, 12]})
+    assert sized.lines() == [(1.0, 8), (1.0, 12)]
     assert _err(_spec, sigma={"auto": {"min": 0.1, "max": 900, "start": [1200]}}).startswith(
         "sigma_tilde.auto.start:")
     # a fixed sigma~ list with seeds: auto keeps the scene's own error
@@ -210,6 +213,30 @@ def test_check_grid_tries_the_first_preload_of_each_line_and_end(monkeypatch):
                         lambda self, path, pre: calls.append((path, tuple(pre))))
     search.check_grid(fixed, {}, True)
     assert calls == [((1.0, s, 0), (fixed.auto.start[0],)) for s in (0.4, 0.9)]
+    sized = _spec(sigma={"auto": {"min": 0.05, "max": 10, "start": [0.3]}}, scene={"phi": 0.16},
+                  sweep={"n_side": [8, 12]})
+    calls.clear()
+    search.check_grid(sized, {"n_side": [8, 12]}, True)
+    assert calls == [((1.0, s, 0, n), (0.001,)) for n in (8, 12) for s in (0.05, 10.0, 0.3)]
+
+
+def test_check_grid_renames_only_a_search_grids_sigma_errors(monkeypatch):
+    def raising(field):
+        def task(self, path, pre):
+            raise ConfigError(field, path[1], "a number in [0, 1]")
+        return task
+
+    spec = _spec(sigma={"auto": {"min": 0.05, "max": 10, "start": [0.3]}})
+    monkeypatch.setattr(type(spec), "auto_task", raising("sigma_tilde"))
+    assert _err(search.check_grid, spec, {}, True) == ("sigma_tilde.auto: got 0.05; allowed: a "
+                                                       "number in [0, 1]")
+    monkeypatch.setattr(type(spec), "auto_task", raising("F_P"))
+    assert _err(search.check_grid, spec, {}, True) == "F_P: got 0.05; allowed: a number in [0, 1]"
+    monkeypatch.undo()
+    fixed = _spec(sigma=[0.4, 0.9], seeds="auto")
+    monkeypatch.setattr(type(fixed), "auto_task", raising("sigma_tilde"))
+    assert _err(search.check_grid, fixed, {}, True) == ("sigma_tilde: got 0.4; allowed: a number "
+                                                        "in [0, 1]")
 
 
 # ------------------------------------------------------------------------------ the choices
@@ -309,6 +336,7 @@ ROUNDS = [[0.2, 0.8, 3.2], [0.4, 1.6], [1.13], [0.951], [1.04]]     # a loss at 
 @pytest.mark.parametrize("rounds", [1, 2, 3, 4, 5, 6, 12])
 def test_the_round_limit_is_exact(monkeypatch, rounds):
     ln, calls = _fake_line(monkeypatch, 1.0, rounds=rounds)
+    assert ln.line == (1.0,)
     ran = min(rounds, len(ROUNDS))
     assert ln.sigmas == [s for r in ROUNDS[:ran] for s in r]
     assert ln.rounds == ran - 1
@@ -469,26 +497,36 @@ def test_a_borderline_rise_grows_seeds_until_its_state_is_certain(quick_bootstra
 def test_replay_group_reads_with_the_lines_floor_and_the_grids_width():
     truth = Fade(0.5)
     spec = _spec(sigma=[0.3], seeds=3, scene={"phi": 0.2}, sweep={"n_side": [8, 12]})
-    line = (1.0, 12)
+    line = (1.0, 8)                      # the smaller brush: not the base scene's 12
     done = {}
     for d in range(3):
-        path = (1.0, 0.3, d, 12)
+        path = (1.0, 0.3, d, 8)
         done[path] = {p: truth(path, p) for p in PRELOADS}
     g = search.replay_group(spec, line, 0.3, done, {})
     assert g.finished and g.seeds == [0, 1, 2] and g.todo == []
-    pts = search._points(done, [(1.0, 0.3, d, 12) for d in range(3)])
-    want = group_precision(*pts, floor=pillar_floor(12, 0.2), width=0.2)
+    pts = search._points(done, [(1.0, 0.3, d, 8) for d in range(3)])
+    want = group_precision(*pts, floor=pillar_floor(8, 0.2), width=0.2)
     assert g.precision == want and g.state == want.state
-    assert g.precision.threshold == FEW_PILLARS * pillar_floor(12, 0.2)
+    assert g.precision.threshold == FEW_PILLARS * pillar_floor(8, 0.2)
     # a missing level is run first; a failed one is not rerun unless asked
     part = {p: dict(v) for p, v in done.items()}
-    del part[(1.0, 0.3, 1, 12)][1.0]
+    del part[(1.0, 0.3, 1, 8)][1.0]
     g = search.replay_group(spec, line, 0.3, part, {})
-    assert g.todo == [((1.0, 0.3, 1, 12), [1.0])] and g.state == ""
-    g = search.replay_group(spec, line, 0.3, part, {(1.0, 0.3, 1, 12): {1.0}})
+    assert g.todo == [((1.0, 0.3, 1, 8), [1.0])] and g.state == ""
+    assert g.sigma == 0.3 and g.seeds == [0, 1, 2] and not g.finished
+    g = search.replay_group(spec, line, 0.3, part, {(1.0, 0.3, 1, 8): {1.0}})
     assert g.finished
-    g = search.replay_group(spec, line, 0.3, part, {(1.0, 0.3, 1, 12): {1.0}}, retry_failed=True)
-    assert g.todo == [((1.0, 0.3, 1, 12), [1.0])]
+    g = search.replay_group(spec, line, 0.3, part, {(1.0, 0.3, 1, 8): {1.0}}, retry_failed=True)
+    assert g.todo == [((1.0, 0.3, 1, 8), [1.0])]
+    ln = search.replay_line(spec, line, part, {(1.0, 0.3, 1, 8): {1.0}})
+    assert ln.finished
+    ln = search.replay_line(spec, line, part, {(1.0, 0.3, 1, 8): {1.0}}, True)
+    assert ln.todo == [((1.0, 0.3, 1, 8), [1.0])]
+
+
+def test_points_are_floats_whatever_the_records_hold():
+    seed, pre, x, y = search._points({(1.0, 0.2, 0): {1: (2, 3)}}, [(1.0, 0.2, 0)])
+    assert seed.tolist() == [0] and pre.dtype == x.dtype == y.dtype == np.float64
 
 
 def test_points_are_every_done_job_of_the_paths_in_order():
@@ -511,6 +549,7 @@ def test_thin_levels_give_every_seed_the_levels_any_seed_reached():
     got = search._thin_levels(spec, [a, b, c], done, {c: {4.0}}, retry_failed=True)
     assert got[-1] == (c, [1.0, 4.0])
     assert search._thin_levels(spec, [a, b], {a: {0.1: (0, 0)}, b: {0.1: (0, 0)}}, {}) == []
+    assert search._thin_levels(spec, [a, c], {a: {0.1: (0, 0)}}, {}) == [(c, [0.1])]   # none yet
     assert search._thin_levels(_spec(sigma=[0.2]), [a, b, c], done, {}) == []
 
 
@@ -541,3 +580,44 @@ def test_the_frontier_of_a_file_with_failed_jobs_reruns_them_only_when_asked():
     done, failed = search.results(spec, recs)
     assert search.frontier_of(spec, done, failed) == []
     assert search.frontier_of(spec, done, failed, True) == [(path, [PRELOADS[-1]])]
+
+
+def test_path_preloads_of_f_p_auto_pass_the_failed_preloads_on():
+    auto = _spec(sigma=[0.3], seeds=2, F_P="auto")
+    start = list(auto.auto.start)
+    res = {p: (p, min(p, 1.0)) for p in start[1:]}
+    nxt = search.path_preloads(auto, res, {start[0]})
+    assert nxt and start[0] not in nxt                                   # on to the next round
+    assert search.path_preloads(auto, res, {start[0]}, True) == [start[0]]
+    assert search.path_preloads(auto, res, set()) == [start[0]]
+
+
+def test_a_cache_passed_is_filled_and_read(quick_bootstrap, monkeypatch):
+    spec = _spec(sigma=[0.2, 0.4], seeds=2)
+    done = drive(spec, Fade(0.5))
+    cache: dict = {}
+    a = search.frontier_of(spec, done, {}, cache=cache)
+    assert a == [] and len(cache) == 2
+    monkeypatch.setattr(search, "group_precision", None)     # read from the cache only
+    assert search.frontier_of(spec, done, {}, cache=cache) == []
+    ln = search.replay_line(spec, (1.0,), done, {}, cache=cache)
+    assert sorted(map(id, (g.precision for g in ln.groups.values()))) == sorted(map(id, cache.values()))
+
+
+def test_with_f_p_auto_every_seed_of_a_group_runs_every_level(quick_bootstrap):
+    """F_P: auto places each path's preloads on its own; before a group is read its seeds are
+    given the levels the others reached, so no level is thin (as tests/test_campaign_search.py,
+    on a fade's group)."""
+    from fibril_hpc.campaign.plan import auto
+
+    spec = _spec(sigma=[0.3], seeds=3, F_P="auto")
+
+    def truth(path, p):                    # each seed its own kink: different preload rounds
+        c = 2.0 * math.exp(np.random.default_rng([path[2], 3]).standard_normal())
+        return p, min(c * p, 1.0)
+
+    done = drive(spec, truth)
+    assert len({frozenset(v) for v in done.values()}) == 1
+    own = {p: frozenset(rp.kink_tried + rp.plateau_tried)
+           for p in done for rp in [auto.replay(spec.auto, done[p])]}
+    assert len(set(own.values())) > 1 and any(own[p] != frozenset(v) for p, v in done.items())
