@@ -466,6 +466,7 @@ def test_a_search_over_a_fade_brackets_where_the_mean_plateau_crosses_three_pill
     seeds = {s: len(g.seeds) for s, g in ln.groups.items()}
     assert seeds[hi] == 8 and ln.groups[hi].precision.short in ((), ("state",))  # borderline
     assert seeds[1.6] == seeds[3.2] == seeds[1.13] == 3           # certainly lost
+    assert all(g.sigma == s for s, g in ln.groups.items())
     for g in ln.groups.values():
         # every group stopped because it was certain and precise, or at the maximum
         assert g.precision.met or len(g.seeds) == 8
@@ -602,6 +603,15 @@ def test_a_cache_passed_is_filled_and_read(quick_bootstrap, monkeypatch):
     assert search.frontier_of(spec, done, {}, cache=cache) == []
     ln = search.replay_line(spec, (1.0,), done, {}, cache=cache)
     assert sorted(map(id, (g.precision for g in ln.groups.values()))) == sorted(map(id, cache.values()))
+    monkeypatch.undo()
+    # other records of the same size are read anew, not taken from the cache
+    other = {p: {q: (fp, 0.9 * fa) for q, (fp, fa) in v.items()} for p, v in done.items()}
+    partial_nb = partial(group_precision, n_boot=50)
+    monkeypatch.setattr(search, "group_precision", partial_nb)
+    got = search.replay_line(spec, (1.0,), other, {}, cache=cache)
+    ref = search.replay_line(spec, (1.0,), other, {})
+    assert [g.precision for g in got.groups.values()] == [g.precision for g in ref.groups.values()]
+    assert len(cache) == 4
 
 
 def test_with_f_p_auto_every_seed_of_a_group_runs_every_level(quick_bootstrap):
@@ -621,3 +631,13 @@ def test_with_f_p_auto_every_seed_of_a_group_runs_every_level(quick_bootstrap):
     own = {p: frozenset(rp.kink_tried + rp.plateau_tried)
            for p in done for rp in [auto.replay(spec.auto, done[p])]}
     assert len(set(own.values())) > 1 and any(own[p] != frozenset(v) for p, v in done.items())
+    # a filled-in level that failed is not run again unless asked
+    p0 = next(p for p in sorted(done) if own[p] != frozenset(done[p]))
+    extra = sorted(frozenset(done[p0]) - own[p0])[0]
+    part = {p: dict(v) for p, v in done.items()}
+    del part[p0][extra]
+    g = search.replay_group(spec, (1.0,), 0.3, part, {})
+    assert g.todo == [(p0, [extra])] and g.sigma == 0.3 and g.seeds == [0, 1, 2] and g.state == ""
+    assert search.replay_group(spec, (1.0,), 0.3, part, {p0: {extra}}).finished
+    g = search.replay_group(spec, (1.0,), 0.3, part, {p0: {extra}}, retry_failed=True)
+    assert g.todo == [(p0, [extra])]
