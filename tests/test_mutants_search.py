@@ -127,7 +127,11 @@ def test_bad_sigma_settings_that_are_not_settings():
     assert _err(search.parse_sigma, {"auto": {"spaceing": 2, "zzz": 1}}) == (
         "sigma_tilde.auto.spaceing: got 2; allowed: a setting (did you mean 'spacing'?): start, "
         "min, max, bracket, spacing, rounds")
+    # YAML keys of any type: named as written, first by their text, never a traceback
     assert _err(search.parse_sigma, {"auto": {1: 2}}).startswith("sigma_tilde.auto.1: got 2;")
+    assert _err(search.parse_sigma, {"auto": {"zz": 1, 3: 2}}).startswith("sigma_tilde.auto.3: got 2;")
+    assert _err(search.parse_sigma, {"auto": {1: 2, "1": 3}}).startswith("sigma_tilde.auto.1: got 2;")
+    assert _err(search.parse_seeds, {"auto": {None: 4}}).startswith("seeds.auto.None: got 4;")
     assert _err(search.parse_sigma, {"auto": {"min": 0.5}}, sigma_range=(1, 30)) == (
         "sigma_tilde.auto.min: got 0.5; allowed: a number in [1, 30]")
     assert _err(search.parse_sigma, {"auto": {"max": 31}}, sigma_range=(0.001, 30)) == (

@@ -97,10 +97,9 @@ def _settings(field_name: str, value, cls):
     names = tuple(cls.__dataclass_fields__)
     if not isinstance(cfg, dict):
         raise ConfigError(f"{field_name}.auto", cfg, "a mapping of " + ", ".join(names))
-    unknown = sorted(((str(k), k) for k in cfg if str(k) not in names), key=lambda kv: kv[0])
-    if unknown:        # a YAML key may be a number: name it as written, look it up as it is
-        raise unknown_key(f"{field_name}.auto.{unknown[0][0]}", cfg[unknown[0][1]], names,
-                          "a setting")
+    unknown = sorted((k for k in cfg if str(k) not in names), key=str)   # YAML keys: any type
+    if unknown:
+        raise unknown_key(f"{field_name}.auto.{unknown[0]}", cfg[unknown[0]], names, "a setting")
     d = cls().to_dict()
     d.update(cfg)
     return d
