@@ -6,11 +6,14 @@ module against a list of fast, targeted test files, and the score table.
     python benchmarks/mutation.py --modules fibril_hpc/campaign/laws/size.py \
         --tests tests/test_campaign_size.py              # any module list against any test list
     python benchmarks/mutation.py --table               # the table of the last run, no rerun
+    python benchmarks/mutation.py --rerun               # the last run's survivors against the
+                                                        # checkout's tests now (same source)
 
 Each run copies the checkout's files (tracked and untracked-but-not-ignored: fibril_hpc/,
 tests/, pyproject.toml) to ``.mutation/<name>/`` (ignored by git), writes the ``[tool.mutmut]``
 section of that copy's pyproject.toml (``only_mutate`` the modules, the test files as
-``pytest_add_cli_args_test_selection``, ``-m "not slow"``), and runs ``mutmut run
+``pytest_add_cli_args_test_selection``, ``-m "not slow"``, a timeout of 4 x the tests' time
+plus 4 s of CPU), and runs ``mutmut run
 --max-children 1`` there under ``nice -n 15`` (one worker: the machine is shared). mutmut
 records which tests reach which function and runs, for each mutant, only those. The table
 counts per module: killed, survived, timeout, no tests (no selected test reaches the function),
@@ -74,17 +77,32 @@ def prepare(work: Path, modules, tests) -> None:
              f"only_mutate = {_toml_list(modules)}\n"
              f"pytest_add_cli_args_test_selection = {_toml_list(tests)}\n"
              'pytest_add_cli_args = ["-m", "not slow", "-p", "no:cacheprovider"]\n'
-             "use_git_change_detection = false\n")
+             "use_git_change_detection = false\n"
+             # a mutant that loops forever (i += 1 -> i = 1) is a timeout after (its tests'
+             # time + 1 s) x 2 x 2 CPU seconds, not mutmut's x 15 x 2
+             "timeout_multiplier = 2.0\n")
     py.write_text(text)
 
 
-def run_mutmut(work: Path) -> int:
-    """``mutmut run`` in ``work``: one worker, low priority, the copy's code on the path."""
+def refresh_tests(work: Path, modules) -> None:
+    """Copy the checkout's tests into ``work`` for a rerun; refuse if a module changed since
+    the run (its mutants and their names would differ: run it afresh)."""
+    for m in modules:
+        if (ROOT / m).read_bytes() != (work / m).read_bytes():
+            raise SystemExit(f"{m} changed since the run in {work}: run it again without --rerun")
+    for f in _files():
+        if f.startswith("tests/"):
+            shutil.copy2(ROOT / f, work / f)
+
+
+def run_mutmut(work: Path, names=()) -> int:
+    """``mutmut run [names]`` in ``work``: one worker, low priority, the copy's code on the
+    path; ``names``: only these mutants (a rerun), else every one without a result."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     env.update(NUMBA_CACHE_DIR=str(work / ".numba_cache"), OMP_NUM_THREADS="1",
                OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1", NUMBA_NUM_THREADS="1")
     mutmut = Path(sys.executable).with_name("mutmut")
-    cmd = ["nice", "-n", "15", str(mutmut), "run", "--max-children", "1"]
+    cmd = ["nice", "-n", "15", str(mutmut), "run", "--max-children", "1", *names]
     return subprocess.run(cmd, cwd=work, env=env).returncode
 
 
@@ -150,6 +168,8 @@ def main(argv=None) -> int:
     ap.add_argument("--tests", nargs="+", help="test files or node ids to run against them")
     ap.add_argument("--only", help="run the SCOPE entries whose module path contains this")
     ap.add_argument("--table", action="store_true", help="print the last runs' table, no run")
+    ap.add_argument("--rerun", action="store_true", help="rerun the last runs' survivors (not "
+                    "listed equivalent) against the checkout's tests")
     args = ap.parse_args(argv)
     if bool(args.modules) != bool(args.tests):
         ap.error("--modules and --tests go together")
@@ -162,7 +182,14 @@ def main(argv=None) -> int:
     rows = []
     for name, (modules, tests) in plan.items():
         work = WORK / name
-        if not args.table:
+        if args.rerun:
+            refresh_tests(work, modules)
+            left = sorted(k for m in modules for k, v in statuses(work, m).items()
+                          if v not in (KILLED, TIMEOUT) and k not in equiv)
+            rc = run_mutmut(work, left) if left else 0
+            if rc not in (0,):
+                print(f"mutmut run in {work} exited {rc}", file=sys.stderr)
+        elif not args.table:
             prepare(work, modules, tests)
             rc = run_mutmut(work)
             if rc not in (0,):
