@@ -43,8 +43,7 @@ EQUIVALENT = ROOT / "benchmarks" / "mutation_equivalent.txt"
 SCOPE = {
     "fibril_hpc/campaign/plan/search.py": ["tests/test_mutants_search.py"],
     "fibril_hpc/campaign/laws/precision.py": ["tests/test_mutants_precision.py"],
-    "fibril_hpc/campaign/laws/reading.py": ["tests/test_mutants_reading.py",
-                                            "tests/test_report_truth.py"],
+    "fibril_hpc/campaign/laws/reading.py": ["tests/test_mutants_reading.py"],
 }
 
 #: mutmut's exit-code meaning (mutmut.stats.status_by_exit_code), grouped for the table

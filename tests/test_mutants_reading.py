@@ -51,6 +51,7 @@ def test_levels_are_seed_statistics_per_requested_preload_sorted_by_force():
     assert lv.thin.tolist() == [False, True, True]
     sub = lv.subset([True, False, True])
     assert sub.preload.tolist() == [0.5, 2.0] and sub.n.tolist() == [3, 1] and len(sub) == 2
+    assert lv.subset([1, 0, 1]).preload.tolist() == [0.5, 2.0]          # a mask, not indices
 
 
 def test_levels_sort_by_reached_force_then_preload_and_drop_non_finite():
@@ -207,6 +208,8 @@ def test_path_plateau_reached():
     assert not rd.path_plateau_reached([1], [1.0]) and not rd.path_plateau_reached([], [])
     assert not rd.path_plateau_reached([1, 2], [1.0, np.inf])
     assert rd.path_plateau_reached([1, 2], [-1.0, -1.02])        # of |F~_A|
+    assert not rd.path_plateau_reached([1, 2, 4], [1.0, 1.0, 2.0])   # the last two points
+    assert rd.path_plateau_reached([1, 2], [1.0, 2.0], rtol=0.5)     # 2 <= 1 + 0.5 x 2
 
 
 # ------------------------------------------------------------------------------ read_group
@@ -371,6 +374,10 @@ def test_one_level_and_no_data():
     r = rd.read_group([0], [1.0], [np.nan], [0.5], floor=0.001)
     assert r.plateau_state == "no data" and r.notes == ["no finite F~_P, F~_A"] and r.n_seeds == 1
     assert math.isnan(r.plateau) and r.n_levels == 0 and r.state == UNDETERMINED
+    assert r.n_plateau == 0 and r.n_rise == 0 and r.floor == 0.001
+    for name in ("plateau_from", "c", "c0", "F_P0", "F_A0", "F_P_half", "c_detect", "top_lo",
+                 "top_hi"):
+        assert math.isnan(getattr(r, name)), name
 
 
 def test_thin_levels_are_shown_but_not_read_while_two_full_ones_remain():
