@@ -396,3 +396,114 @@ def test_thin_levels_are_shown_but_not_read_while_two_full_ones_remain():
     # only one full level left: the thin ones are read
     r = rd.read_group([0, 1, 0], [1.0, 1.0, 2.0], [1.0, 1.0, 2.0], [0.5, 0.5, 1.0], floor=0.001)
     assert r.n_levels == 2 and r.seeds == (2, 1)
+
+
+# ------------------------------------------------------------------------------ every field
+def _same(r, **want):
+    """Every field named, NaN-aware and type-strict (a count is an int, a number a float)."""
+    for k, v in want.items():
+        got = getattr(r, k)
+        if isinstance(v, float) and math.isnan(v):
+            assert isinstance(got, float) and math.isnan(got), (k, got)
+        elif isinstance(v, float):
+            assert isinstance(got, float) and got == pytest.approx(v, rel=1e-12), (k, got, v)
+        else:
+            assert got == v and type(got) is type(v), (k, got, v)
+
+
+NAN = math.nan
+
+
+def test_every_field_of_a_one_level_reading():
+    r = rd.read_group([0, 1], [1.0, 1.0], [1.0, 1.0], [0.5, 0.6], floor=0.001)
+    _same(r, plateau=0.55, plateau_state="not reached", plateau_from=1.0, n_plateau=1, c=NAN,
+          c0=NAN, F_P0=1.0, F_A0=0.55, F_P_half=NAN, c_detect=NAN, n_levels=1, n_rise=0,
+          top_lo=0.5, top_hi=0.6, state=UNDETERMINED, floor=0.001, seeds=(2,), n_seeds=2,
+          c_lower=NAN, c_res=NAN, c_stage=NAN, c_chord=NAN, n_stage=0, resolve_below=NAN)
+
+
+def test_every_field_of_a_lost_reading_and_its_creep_note():
+    floor = 0.01
+    curve = lambda x: min(max(floor, 0.5 * x), 2.5 * floor)   # noqa: E731
+    pre = [0.001, 0.01, 0.02, 0.04, 0.08, 0.16]
+    r = rd.read_group(*_group(curve, pre, dev=(-0.01, 0.01)), floor=floor)
+    xh = _log_cross(0.02, 0.01, 0.04, 0.02, 0.5 * 0.025)
+    _same(r, plateau=0.025, plateau_state="reached", plateau_from=0.001, n_plateau=2, c=0.0, c0=0.0,
+          F_P0=0.001, F_A0=0.01, F_P_half=NAN, n_levels=6, n_rise=0, top_lo=0.99 * 0.025,
+          top_hi=1.01 * 0.025, state=LOST, floor=floor, seeds=(2,) * 6, n_seeds=2, c_stage=0.0,
+          c_chord=0.0, c_res=0.5 * 0.025 / xh, c_lower=NAN, n_stage=0, resolve_below=NAN)
+    assert r.c_detect == pytest.approx(0.02 * 0.025 / (0.16 - 0.001), rel=1e-12)
+    assert r.notes == [f"adhesion lost: plateau F~_A = 0.025, within 3 pillars' pull-off (0.03; one "
+                       f"pillar: 0.01); it creeps from 0.01 (a secant of {0.0125 / xh:.3g} through "
+                       "its half point, the uncertainty of c = 0 in the fit)"] == r.c_notes
+    # exactly half the plateau at the smallest preload: no creep below half, no c_res
+    r = rd.read_group(*_group(lambda x: 0.01 if x < 0.005 else 0.02, pre, dev=(0.0, 0.0)),
+                      floor=floor)
+    assert r.state == LOST and r.F_A0 == 0.5 * r.plateau and math.isnan(r.c_res)
+    assert r.notes[-1].endswith("(0.03; one pillar: 0.01)")
+
+
+def test_every_field_of_an_unresolved_reading_and_its_notes():
+    curve = lambda x: min(1.2 + 0.2 * x, 2.0)   # noqa: E731    # 60 % of a plateau of 2 at once
+    r = rd.read_group(*_group(curve), floor=0.001)
+    lv = rd.levels(*_group(curve))
+    _same(r, plateau=2.0, plateau_state="not reached", plateau_from=10.0, n_plateau=1, c=NAN,
+          c0=rd._c0(lv, 2.0), F_P0=0.01, F_A0=1.202, F_P_half=NAN, n_levels=7, n_rise=6,
+          top_lo=0.98 * 2, top_hi=1.02 * 2, state=UNRESOLVED, floor=0.001, seeds=(3,) * 7,
+          n_seeds=3, c_lower=120.2, resolve_below=0.001, c_res=NAN, c_stage=NAN, c_chord=NAN,
+          n_stage=0)
+    assert r.c_detect == pytest.approx(0.08 / (10 - 0.01), rel=1e-12)
+    assert r.c_notes[-1] == ("rise not resolved: F~_A = 1.2 at the smallest preload F~_P = 0.01 is "
+                             "already 60% of the plateau 2; c >= 120 (a lower bound, out of the "
+                             "fit); preloads at or below 0.001 (a tenth of the smallest reached) "
+                             "would resolve it")
+    # the overshot first contact
+    pre = [0.01, 0.02, 0.1, 0.3, 1.0, 3.0]
+    seed, p, x, y = _group(lambda v: min(1.4 + v, 2.0), pre, fp=lambda q: max(q, 0.2))
+    y = y * (1 + 1e-3 * (np.arange(y.size) % 3))
+    r = rd.read_group(seed, p, x, y, floor=0.001)
+    assert r.c_notes[-1].endswith("; the first contact overshot the smallest preload asked for "
+                                  "(0.01) to F~_P = 0.2: the brush saturates at first contact, no "
+                                  "smaller preload is reachable on this scene")
+    # a zero preload asked for is not an overshoot; F~_P = 0 reached: no lower bound of c
+    r = rd.read_group(*_group(curve, [0.0, 0.1, 1.0, 10.0]), floor=0.001)
+    assert r.state == UNRESOLVED and math.isnan(r.c_lower) and r.resolve_below == 0.0
+
+
+def test_a_resolved_rise_with_a_plateau_of_two_and_one_level_below_it():
+    r = rd.read_group(*_group(lambda x: min(x, 2.0), [0.1, 2.0, 4.0, 8.0]), floor=0.001)
+    xh = _log_cross(0.1, 0.1, 2.0, 2.0, 1.0)
+    assert r.state == RESOLVED and r.n_rise == 1 and r.plateau == 2.0
+    assert r.F_P_half == pytest.approx(xh, rel=1e-12) and r.c == pytest.approx(1.0 / xh, rel=1e-12)
+    assert r.c_res == pytest.approx(abs(1.0 / xh - 1.0 / (0.1 + (0.9 / 1.9) * 1.9)), rel=1e-12)
+
+
+def test_the_stage_starts_above_three_pillars_exactly():
+    # floor 0.25: three pillars are 0.75, a level exactly there is not on the stage
+    r = rd.read_group(*_group(lambda x: min(x, 4.0), [0.5, 0.75, 1.0, 1.5, 4.0, 8.0],
+                              dev=(0.0, 0.0)), floor=0.25)
+    assert r.state == RESOLVED and r.n_stage == 2
+    assert r.c_stage == pytest.approx(1.0)
+
+
+def test_the_detection_limit_with_two_seeds_and_equal_forces():
+    # two seeds: the seeds' spread and the 1 % tolerance, not the one-path 3 %
+    r = rd.read_group(*_group(lambda x: min(x, 1.0), dev=(0.0, 0.0)), floor=0.001)
+    assert r.c_detect == pytest.approx(0.01 / (10 - 0.01), rel=1e-12)
+    r = rd.read_group(*_group(lambda x: min(x, 1.0), dev=(-0.05, 0.05)), floor=0.001)
+    assert r.c_detect == pytest.approx(0.1 / (10 - 0.01), rel=1e-12)
+    # two levels reached at the same F~_P: no span, no detection limit
+    r = rd.read_group([0, 0], [0.1, 1.0], [1.0, 1.0], [0.4, 0.5], floor=0.001)
+    assert r.n_levels == 2 and math.isnan(r.c_detect)
+
+
+def test_thin_levels_two_of_them_and_exactly_two_full_levels():
+    seed = [0, 1, 0, 1, 0, 1]
+    pre = [0.1, 0.1, 1.0, 1.0, 0.3, 0.5]
+    r = rd.read_group(seed, pre, pre, [0.1, 0.1, 1.0, 1.0, 0.02, 0.9], floor=0.001)
+    assert r.notes[0].startswith("2 level(s) with fewer seeds than the group's 2 (F~_P = 0.3: 1, "
+                                 "0.5: 1): shown")
+    assert r.n_levels == 2 and r.state == RESOLVED
+    # one full level and a thin one above it: the plateau is the full level's
+    r = rd.read_group([0, 1, 0], [1.0, 1.0, 2.0], [1.0, 1.0, 2.0], [0.5, 0.6, 1.0], floor=0.001)
+    assert r.plateau == pytest.approx(0.55) and (r.top_lo, r.top_hi) == (0.5, 0.6)
