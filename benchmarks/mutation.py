@@ -19,9 +19,9 @@ records which tests reach which function and runs, for each mutant, only those. 
 counts per module: killed, survived, timeout, no tests (no selected test reaches the function),
 other (suspicious, segfault, not checked), and the score (killed + timeout) / total; survivors
 named in ``benchmarks/mutation_equivalent.txt`` (one ``name  reason`` a line) are counted as
-equivalent and the score without them is shown too. Survivors are written with their diffs to
-``.mutation/<name>/survivors-<module>.txt``. Nothing of it is committed: the dated scores go to
-benchmarks/NOTES.md ("Mutation testing (issue 34)").
+equivalent and the score without them is shown too. With ``--diffs`` the survivors are written
+with their diffs to ``.mutation/<name>/survivors-<module>.txt``. Nothing of it is committed:
+the dated scores go to benchmarks/NOTES.md ("Mutation testing (issue 34)").
 """
 
 from __future__ import annotations
@@ -167,6 +167,8 @@ def main(argv=None) -> int:
     ap.add_argument("--tests", nargs="+", help="test files or node ids to run against them")
     ap.add_argument("--only", help="run the SCOPE entries whose module path contains this")
     ap.add_argument("--table", action="store_true", help="print the last runs' table, no run")
+    ap.add_argument("--diffs", action="store_true", help="write the survivors' diffs to "
+                    ".mutation/<name>/survivors-<module>.txt (mutmut show: seconds each)")
     ap.add_argument("--rerun", action="store_true", help="rerun the last runs' survivors (not "
                     "listed equivalent) against the checkout's tests")
     args = ap.parse_args(argv)
@@ -196,7 +198,7 @@ def main(argv=None) -> int:
         for m in modules:
             st = statuses(work, m)
             rows.append((m, st))
-            if not args.table and st:
+            if args.diffs and st:
                 (work / f"survivors-{Path(m).stem}.txt").write_text(survivors(work, st, equiv))
     print(table(rows, equiv))
     for m, st in rows:

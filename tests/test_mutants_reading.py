@@ -507,3 +507,68 @@ def test_thin_levels_two_of_them_and_exactly_two_full_levels():
     # one full level and a thin one above it: the plateau is the full level's
     r = rd.read_group([0, 1, 0], [1.0, 1.0, 2.0], [1.0, 1.0, 2.0], [0.5, 0.6, 1.0], floor=0.001)
     assert r.plateau == pytest.approx(0.55) and (r.top_lo, r.top_hi) == (0.5, 0.6)
+
+
+def test_levels_are_floats_whatever_the_inputs():
+    lv = rd.levels([0, 0, 1], [1, 2, 2], [1, 2, 3], [1, 2, 4])
+    for name in ("preload", "F_P", "F_A", "sd", "lo", "hi"):
+        assert getattr(lv, name).dtype == np.float64, name
+    assert lv.preload.tolist() == [1.0, 2.0]
+
+
+def test_a_merged_level_is_compared_with_the_next_not_the_previous():
+    # the first two levels are one event; the third differs: levels 0.5 and 2
+    lv = rd.levels([0, 0, 0], [0.1, 0.5, 2.0], [0.5, 0.5, 2.0], [0.2, 0.2, 0.9])
+    assert lv.preload.tolist() == [0.5, 2.0]
+
+
+def test_plateau_set_tolerances_scale_with_the_plateau_and_are_strict():
+    lv = rd.levels([0] * 3, range(3), range(1, 4), [1.0, 9.75, 10.0])
+    assert rd.plateau_set(lv, 1) == 1                 # 3 % of 10 is 0.3
+    lv = rd.levels([0] * 3, range(3), range(1, 4), [1.0, 9.65, 10.0])
+    assert rd.plateau_set(lv, 1) == 2
+    # two seeds without scatter: 1 % of 100 is 1, and a level exactly 1 below joins
+    lv = rd.levels([0, 1] * 3, [1, 1, 2, 2, 3, 3], [1, 1, 2, 2, 3, 3],
+                   [0.0, 0.0, 99.0, 99.0, 100.0, 100.0])
+    assert rd.plateau_set(lv, 2) == 1
+
+
+def test_c0_runs_to_the_last_level_and_skips_a_zero_force():
+    lv = rd.levels([0] * 3, range(3), [1, 2, 4], [0.1, 0.15, 0.2])
+    want = math.exp(np.mean(np.log([0.1 / 1, 0.15 / 2, 0.2 / 4])))
+    assert rd._c0(lv, 1.0) == pytest.approx(want, rel=1e-12)
+    lv = rd.levels([0] * 3, range(3), [0, 1, 2], [0.1, 0.2, 1.0])
+    assert rd._c0(lv, 1.0) == pytest.approx(0.2, rel=1e-12)
+
+
+def test_c0_notes_and_the_coarse_half_point_at_its_edges():
+    # c0 undefined: no force in the first quarter of the rise
+    r = rd.read_group(*_group(lambda x: 0.0 if x < 0.2 else min(2 * x, 1.0)), floor=0.0001)
+    assert r.state == RESOLVED and math.isnan(r.c0)
+    assert r.c_notes[0] == "c0 undefined: F~_A or F~_P <= 0 at the smallest preload"
+    # the first-contact floor, exactly 95 % of the next level
+    r = rd.read_group(*_group(lambda x: {1.0: 19.0, 2.0: 20.0, 4.0: 40.0}.get(x, 100.0),
+                              [1.0, 2.0, 4.0, 8.0, 16.0], dev=(0.0, 0.0)), floor=0.001)
+    assert r.state == RESOLVED
+    assert r.c_notes[0] == ("c0 read on the first-contact floor (F~_A hardly changes between the "
+                            "two smallest preloads): a ratio F~_A/F~_P that grows as the preload "
+                            "shrinks")
+    # the half point between the two smallest levels (x 20 apart), and between the last two
+    r = rd.read_group(*_group(lambda x: min(x, 2.0), [0.1, 2.0, 4.0, 8.0]), floor=0.001)
+    assert r.c_notes[-1].startswith("the half point lies between preloads 0.1 and 2 (x 20 apart)")
+    r = rd.read_group([0, 0, 0], [0.1, 0.2, 1.0], [0.1, 0.2, 1.0], [0.1, 0.2, 1.0], floor=0.001)
+    assert r.plateau_state == "not reached" and r.state == RESOLVED
+    assert r.c_notes[-1].startswith("the half point lies between preloads 0.2 and 1 (x 5 apart)")
+    # exactly x 2.5: not coarse
+    r = rd.read_group(*_group(lambda x: min(x, 1.0), [0.1, 0.2, 0.4, 1.0, 2.0]), floor=0.001)
+    assert not any("half point lies" in n for n in r.c_notes)
+    # a level at F~_P = 0 below the half point: no ratio to judge
+    r = rd.read_group([0, 0, 0], [0.0, 1.0, 2.0], [0.0, 1.0, 2.0], [0.1, 1.0, 1.0], floor=0.001)
+    assert r.state == RESOLVED and not any("half point lies" in n for n in r.c_notes)
+
+
+def test_a_rise_without_a_stage_has_no_stage_slope():
+    r = rd.read_group(*_group(lambda x: min(x, 1.0), [0.1, 0.2, 0.4, 0.5, 0.8, 1.6, 3.2]),
+                      floor=0.2)
+    assert r.state == RESOLVED and r.n_stage == 0
+    assert isinstance(r.c_stage, float) and math.isnan(r.c_stage)
