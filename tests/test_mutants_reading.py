@@ -468,6 +468,9 @@ def test_every_field_of_an_unresolved_reading_and_its_notes():
     # a zero preload asked for is not an overshoot; F~_P = 0 reached: no lower bound of c
     r = rd.read_group(*_group(curve, [0.0, 0.1, 1.0, 10.0]), floor=0.001)
     assert r.state == UNRESOLVED and math.isnan(r.c_lower) and r.resolve_below == 0.0
+    r = rd.read_group(*_group(curve, [0.0, 0.1, 1.0, 10.0], fp=lambda q: max(q, 0.05)),
+                      floor=0.001)
+    assert r.resolve_below == pytest.approx(0.005)
 
 
 def test_a_resolved_rise_with_a_plateau_of_two_and_one_level_below_it():
@@ -560,8 +563,9 @@ def test_c0_notes_and_the_coarse_half_point_at_its_edges():
     assert r.plateau_state == "not reached" and r.state == RESOLVED
     assert r.c_notes[-1].startswith("the half point lies between preloads 0.2 and 1 (x 5 apart)")
     # exactly x 2.5: not coarse
-    r = rd.read_group(*_group(lambda x: min(x, 1.0), [0.1, 0.2, 0.4, 1.0, 2.0]), floor=0.001)
-    assert not any("half point lies" in n for n in r.c_notes)
+    r = rd.read_group(*_group(lambda x: min(x, 1.0), [0.1, 0.2, 0.4, 1.0, 2.0], dev=(0.0, 0.0)),
+                      floor=0.001)
+    assert r.state == RESOLVED and not any("half point lies" in n for n in r.c_notes)
     # a level at F~_P = 0 below the half point: no ratio to judge
     r = rd.read_group([0, 0, 0], [0.0, 1.0, 2.0], [0.0, 1.0, 2.0], [0.1, 1.0, 1.0], floor=0.001)
     assert r.state == RESOLVED and not any("half point lies" in n for n in r.c_notes)
