@@ -13,7 +13,7 @@ Each run copies the checkout's files (tracked and untracked-but-not-ignored: fib
 tests/, pyproject.toml) to ``.mutation/<name>/`` (ignored by git), writes the ``[tool.mutmut]``
 section of that copy's pyproject.toml (``only_mutate`` the modules, the test files as
 ``pytest_add_cli_args_test_selection``, ``-m "not slow"``, a timeout of 4 x the tests' time
-plus 4 s of CPU), and runs ``mutmut run
+plus 20 s of CPU), and runs ``mutmut run
 --max-children 1`` there under ``nice -n 15`` (one worker: the machine is shared). mutmut
 records which tests reach which function and runs, for each mutant, only those. The table
 counts per module: killed, survived, timeout, no tests (no selected test reaches the function),
@@ -69,6 +69,11 @@ def prepare(work: Path, modules, tests) -> None:
         dst = work / f
         dst.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(ROOT / f, dst)
+    write_config(work, modules, tests)
+
+
+def write_config(work: Path, modules, tests) -> None:
+    """The ``[tool.mutmut]`` section of the copy's pyproject.toml for this run."""
     py = work / "pyproject.toml"
     text = re.sub(r"(?ms)^\[tool\.mutmut\].*?(?=^\[|\Z)", "", py.read_text())
     text += ("\n[tool.mutmut]\n"
@@ -78,12 +83,13 @@ def prepare(work: Path, modules, tests) -> None:
              'pytest_add_cli_args = ["-m", "not slow", "-p", "no:cacheprovider"]\n'
              "use_git_change_detection = false\n"
              # a mutant that loops forever (i += 1 -> i = 1) is a timeout after (its tests'
-             # time + 1 s) x 2 x 2 CPU seconds, not mutmut's x 15 x 2
-             "timeout_multiplier = 2.0\n")
+             # time + 5 s of pytest's own start) x 2 x 2 CPU seconds, not mutmut's x 15 x 2
+             "timeout_multiplier = 2.0\n"
+             "timeout_constant = 5.0\n")
     py.write_text(text)
 
 
-def refresh_tests(work: Path, modules) -> None:
+def refresh_tests(work: Path, modules, tests) -> None:
     """Copy the checkout's tests into ``work`` for a rerun; refuse if a module changed since
     the run (its mutants and their names would differ: run it afresh)."""
     for m in modules:
@@ -92,6 +98,7 @@ def refresh_tests(work: Path, modules) -> None:
     for f in _files():
         if f.startswith("tests/"):
             shutil.copy2(ROOT / f, work / f)
+    write_config(work, modules, tests)
 
 
 def run_mutmut(work: Path, names=()) -> int:
@@ -170,7 +177,7 @@ def main(argv=None) -> int:
     ap.add_argument("--diffs", action="store_true", help="write the survivors' diffs to "
                     ".mutation/<name>/survivors-<module>.txt (mutmut show: seconds each)")
     ap.add_argument("--rerun", action="store_true", help="rerun the last runs' survivors (not "
-                    "listed equivalent) against the checkout's tests")
+                    "listed equivalent) and timeouts against the checkout's tests")
     args = ap.parse_args(argv)
     if bool(args.modules) != bool(args.tests):
         ap.error("--modules and --tests go together")
@@ -184,9 +191,9 @@ def main(argv=None) -> int:
     for name, (modules, tests) in plan.items():
         work = WORK / name
         if args.rerun:
-            refresh_tests(work, modules)
+            refresh_tests(work, modules, tests)
             left = sorted(k for m in modules for k, v in statuses(work, m).items()
-                          if v not in (KILLED, TIMEOUT) and k not in equiv)
+                          if v != KILLED and k not in equiv)     # timeouts too: is it a loop?
             rc = run_mutmut(work, left) if left else 0
             if rc not in (0,):
                 print(f"mutmut run in {work} exited {rc}", file=sys.stderr)
