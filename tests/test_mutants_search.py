@@ -523,6 +523,11 @@ def test_replay_group_reads_with_the_lines_floor_and_the_grids_width():
     assert g.finished
     g = search.replay_group(spec, line, 0.3, part, {(1.0, 0.3, 1, 8): {1.0}}, retry_failed=True)
     assert g.todo == [((1.0, 0.3, 1, 8), [1.0])]
+    # a fixed seed count is judged against a width of 0.2: c's 0.79 is short
+    rise = {(1.0, 0.2, d, 8): {p: truth((1.0, 0.2, d, 8), p) for p in PRELOADS} for d in range(3)}
+    g = search.replay_group(spec, line, 0.2, rise, {})
+    assert g.sigma == 0.2 and g.state == RESOLVED and g.precision.short == ("c",)
+    assert 0.2 < g.precision.widths[0] < 1.0
     ln = search.replay_line(spec, line, part, {(1.0, 0.3, 1, 8): {1.0}})
     assert ln.finished
     ln = search.replay_line(spec, line, part, {(1.0, 0.3, 1, 8): {1.0}}, True)
