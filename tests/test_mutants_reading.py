@@ -576,3 +576,8 @@ def test_a_rise_without_a_stage_has_no_stage_slope():
                       floor=0.2)
     assert r.state == RESOLVED and r.n_stage == 0
     assert isinstance(r.c_stage, float) and math.isnan(r.c_stage)
+
+
+def test_a_chord_of_no_length_is_undefined():
+    r = rd.read_group(*_group(lambda x: min(x, 1.0)), floor=0.001, half=0.0)
+    assert r.state == RESOLVED and math.isnan(r.c_chord)
