@@ -579,5 +579,6 @@ def test_a_rise_without_a_stage_has_no_stage_slope():
 
 
 def test_a_chord_of_no_length_is_undefined():
-    r = rd.read_group(*_group(lambda x: min(x, 1.0)), floor=0.001, half=0.0)
+    r = rd.read_group(*_group(lambda x: min(0.1 * x, 1.0), [1.0, 2.0, 4.0, 8.0, 16.0]),
+                      floor=0.001, half=0.0)
     assert r.state == RESOLVED and math.isnan(r.c_chord)
