@@ -112,7 +112,7 @@ def _settings(field_name: str, value, cls):
     names = tuple(cls.__dataclass_fields__)
     if not isinstance(cfg, dict):
         raise ConfigError(f"{field_name}.auto", cfg, "a mapping of " + ", ".join(names))
-    unknown = sorted(set(map(str, cfg)) - set(names))
+    unknown = sorted((k for k in cfg if str(k) not in names), key=str)   # YAML keys: any type
     if unknown:
         raise unknown_key(f"{field_name}.auto.{unknown[0]}", cfg[unknown[0]], names, "a setting")
     d = cls().to_dict()
