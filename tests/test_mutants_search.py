@@ -148,7 +148,7 @@ def test_bad_sigma_settings_that_are_not_settings():
     ({"width": 0.0009}, "seeds.auto.width: got 0.0009; allowed: a number in [0.001, 10]"),
     ({"width": 10.5}, "seeds.auto.width: got 10.5; allowed: a number in [0.001, 10]"),
     ({"widht": 1}, "seeds.auto.widht: got 1; allowed: a setting (did you mean 'width'?): start, "
-     "max, width"),
+     "max, width, first"),
 ])
 def test_a_bad_seeds_setting_is_one_line_naming_it(cfg, msg):
     assert _err(search.parse_seeds, {"auto": cfg}) == msg
@@ -158,7 +158,7 @@ def test_seeds_that_are_not_auto_are_none_and_auto_words():
     for v in (3, [0, 1, 2], "many", {"auto": {}, "x": 1}, {}):
         assert search.parse_seeds(v) is None
     assert _err(search.parse_seeds, {"auto": [1]}) == ("seeds.auto: got [1]; allowed: a mapping "
-                                                       "of start, max, width")
+                                                       "of start, max, width, first")
     assert search.is_auto("auto") and search.is_auto({"auto": None}) and search.is_auto({"auto": 3})
     for v in ("Auto", "automatic", {"auto": 1, "x": 2}, {}, ["auto"], 3, None):
         assert not search.is_auto(v), v
