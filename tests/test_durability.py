@@ -230,19 +230,32 @@ def test_a_checkpoint_copy_cut_mid_write_is_never_published(tmp_path, capsys, mo
     """A checkpoint copy that does not read back whole (here: half of it written, as a
     torn write) is not renamed into place: exit 75, one line, and the rerun it advises
     keeps every finished record."""
-    real_write = durable._write_all
-    calls = []
+    from fibril_hpc.io import files
+
+    real_write, real_publish = files._write_all, durable.publish
+    calls, checked = [], []
 
     def torn(fd, data):
-        calls.append(1)
-        if len(calls) == 4:
-            data = bytes(data)[: len(data) // 2]
+        # the 4th checkpoint copy that is read back before publishing is torn
+        if checked and checked[-1]:
+            calls.append(1)
+            if len(calls) == 4:
+                data = bytes(data)[: len(data) // 2]
         real_write(fd, data)
 
-    monkeypatch.setattr(durable, "_write_all", torn)
+    def publish(path, data, verify=None, keep_previous=False, *args, **kw):
+        checked.append(verify is not None or keep_previous)
+        try:
+            return real_publish(path, data, verify, keep_previous, *args, **kw)
+        finally:
+            checked.pop()
+
+    monkeypatch.setattr(files, "_write_all", torn)
+    monkeypatch.setattr(durable, "publish", publish)
     grid, out, code, err, finished = _run_damaging(tmp_path, capsys, monkeypatch, 99, _zero,
                                                    "published")
-    monkeypatch.setattr(durable, "_write_all", real_write)
+    monkeypatch.setattr(files, "_write_all", real_write)
+    monkeypatch.setattr(durable, "publish", real_publish)
     line = one_line(err)
     assert code == 75 and "did not read back whole" in line and "rerun the same command" in line
     code, _, err = cli([grid, "--no-progress"], capsys)

@@ -84,8 +84,12 @@ def free_bytes(folder: str) -> int:
 
 
 def write_bytes_atomically(path: str, data: bytes, operation: str, tmp_prefix: str,
-                           exclusive: str | None = None) -> None:
+                           exclusive: str | None = None, before_publish=None) -> None:
     """Write ``data`` to a temporary file beside ``path``, ``fsync``, rename over ``path``.
+
+    ``before_publish``: called with the temporary file's path once it is written and synced,
+    before it gets its name; an exception there keeps the old ``path`` and removes the
+    temporary file.
 
     The free space is checked first; ENOSPC/EDQUOT at any step becomes :class:`DiskFull`
     naming ``path`` and ``operation``, and the temporary file is removed. With ``exclusive``
@@ -111,17 +115,23 @@ def write_bytes_atomically(path: str, data: bytes, operation: str, tmp_prefix: s
             umask = os.umask(0)
             os.umask(umask)
             os.fchmod(fd, 0o666 & ~umask)
-            view = memoryview(data)
-            while view:
-                view = view[os.write(fd, view):]
+            _write_all(fd, data)
             os.fsync(fd)
         finally:
             os.close(fd)
+        if before_publish is not None:
+            before_publish(tmp)
         if exclusive:
             claim_new(tmp, path, exclusive)
         else:
             os.replace(tmp, path)
         fsync_dir(folder)
+
+
+def _write_all(fd: int, data) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.write(fd, view):]
 
 
 #: errno values of a file system without hard links (EPERM, EXDEV, EMLINK, ENOSYS, ENOTSUP)

@@ -24,7 +24,7 @@ import shutil
 import tempfile
 
 from ...errors import FULL_ERRNOS, DiskFull, Interruption, StoreError
-from ...io.files import discard_on_failure, free_bytes, fsync_dir, write_bytes_atomically
+from ...io.files import write_bytes_atomically
 
 #: suffix of the previous generation of a campaign file
 PREVIOUS = ".previous"
@@ -64,36 +64,17 @@ def publish(path: str, data, verify=None, keep_previous: bool = False,
     on failure. ``exclusive``: see :func:`fibril_hpc.io.files.write_bytes_atomically` (a new
     file of ``merge`` or ``salvage``; never with ``verify`` or ``keep_previous``).
     """
-    if verify is None and not keep_previous:
-        write_bytes_atomically(path, data, operation, tmp_prefix(path), exclusive)
-        return
     folder = os.path.dirname(os.path.abspath(path)) or "."
-    free = free_bytes(folder)
-    margin = (64 << 10) + len(data) // 16
-    if 0 <= free < len(data) + margin:
-        raise DiskFull(path, operation, f"{len(data) + margin} bytes needed, {free} free")
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=tmp_prefix(path), dir=folder)
-    except OSError as exc:
-        if exc.errno in FULL_ERRNOS:
-            raise DiskFull(path, operation, exc.strerror) from None
-        raise StoreError(f"cannot write {path}: {exc}") from None
-    with discard_on_failure(tmp, path, operation):
-        try:
-            umask = os.umask(0)
-            os.umask(umask)
-            os.fchmod(fd, 0o666 & ~umask)
-            _write_all(fd, data)
-            os.fsync(fd)
-        finally:
-            os.close(fd)
+
+    def check(tmp: str) -> None:       # the written copy, before it gets the name
         problem = (_read_back(tmp, data) or verify(tmp)) if verify is not None else ""
         if problem:
             raise CheckpointNotVerified(path, path + ".journal", problem)
         if keep_previous and os.path.exists(path):
             _second_name(path, previous_path(path), folder)
-        os.replace(tmp, path)
-        fsync_dir(folder)
+
+    write_bytes_atomically(path, data, operation, tmp_prefix(path), exclusive,
+                           before_publish=check)
 
 
 def _read_back(tmp: str, data) -> str:
@@ -148,12 +129,6 @@ def _second_name(path: str, previous: str, folder: str) -> None:
         if os.path.lexists(tmp):
             os.unlink(tmp)
         raise
-
-
-def _write_all(fd: int, data) -> None:
-    view = memoryview(data)
-    while view:
-        view = view[os.write(fd, view):]
 
 
 __all__ = ["publish", "keep_copy", "remove_previous", "previous_path", "tmp_prefix",
