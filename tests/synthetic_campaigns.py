@@ -216,3 +216,81 @@ def fade_campaign(sigma_c, sigmas, seeds, alpha=None, beta=1.0, tau=0.15, m=4.0,
         out[s] = tuple(np.array(col) for col in zip(*rows))
         truth[s] = Ppop
     return out, truth, sigma_h
+
+
+# -- whole pillars: the plateau of a finite brush near its loss ----------------------------------
+
+_BRUSHES: dict = {}
+
+
+def _gaps(n_side: int, n_brushes: int, seed: int, keep: int = 80):
+    """Sorted height gaps (max xi - xi_n) of ``n_brushes`` brushes of n_side^2 standard normal
+    heights: the tallest pillar first (gap 0)."""
+    key = (n_side, n_brushes, seed)
+    if key not in _BRUSHES:
+        rng = np.random.default_rng(seed)
+        xi = rng.standard_normal((n_brushes, n_side * n_side))
+        g = np.sort(xi.max(axis=1, keepdims=True) - xi, axis=1)[:, :keep]
+        _BRUSHES[key] = g
+    return _BRUSHES[key]
+
+
+def pillar_plateau(gaps, sigma, reach):
+    """Plateaus (in pillars' pull-off) of brushes with height ``gaps``: each pillar whose gap is
+    within the reach holds a share 1 - sigma gap / reach of one pillar's pull-off (the tallest
+    holds one whole pillar): whole pillars near the loss, skewed across brushes."""
+    return np.clip(1.0 - sigma * np.asarray(gaps) / reach, 0.0, None).sum(axis=-1)
+
+
+def pillar_truth(n_side: int = 12, sigma_c: float = 1.0, n_pop: int = 20000):
+    """(reach, mean plateau in pillars as a function of sigma~) of the population of n_side x
+    n_side brushes whose seed-mean plateau falls to ``FEW_PILLARS`` pillars at ``sigma_c``
+    (Monte Carlo over ``n_pop`` brushes)."""
+    from scipy import optimize
+
+    g = _gaps(n_side, n_pop, 12345)
+
+    def mean(sigma, reach):
+        return float(pillar_plateau(g, sigma, reach).mean())
+
+    reach = optimize.brentq(lambda r: mean(sigma_c, r) - reading.FEW_PILLARS, 1e-3, 1e3)
+    return reach, (lambda s: mean(s, reach))
+
+
+def pillar_campaign(sigma_c, sigmas, seeds, n_side=12, alpha=None, beta=1.0, c_sd=0.05,
+                    P_noise=0.02, first_seed=0, rng=None):
+    """{sigma~: points} of one k~ whose seeds are whole brushes of n_side^2 pillars
+    (:func:`pillar_plateau`): seed k's heights are the same at every sigma~, so its plateau is
+    that brush's count of pillars within reach, skewed and nearly discrete near the loss, as the
+    real plateaus are there; the seed-mean crosses ``FEW_PILLARS`` pillars at ``sigma_c``
+    exactly (:func:`pillar_truth`). c follows alpha/sigma~ - beta where the population plateau
+    holds adhesion, the few pillars' creep (10 x the plateau) where it is lost. ``seeds``: a
+    number or {sigma~: number}; labels ``first_seed``.. (disjoint sets: another first_seed).
+    Returns (points, {sigma~: population plateau}, floor)."""
+    rng = np.random.default_rng(rng)
+    floor = reading.pillar_floor(n_side, 0.16)
+    reach, pop = pillar_truth(n_side, sigma_c)
+    alpha = sigma_c * beta if alpha is None else alpha
+    n_of = seeds if isinstance(seeds, dict) else {s: seeds for s in sigmas}
+    n_max = max(n_of.values())
+    xi = rng.standard_normal((n_max, n_side * n_side))
+    gaps = np.sort(xi.max(axis=1, keepdims=True) - xi, axis=1)[:, :80]
+    zc = rng.standard_normal(n_max)
+    out, truth = {}, {}
+    for s in sigmas:
+        Ppop = floor * pop(s)
+        cpop = alpha / s - beta if pop(s) > reading.FEW_PILLARS and alpha / s > beta \
+            else 10.0 * Ppop
+        hi = 4 * Ppop / cpop
+        pre = tuple(float(v) for v in np.geomspace(hi / 4000, hi, 22).round(12))
+        rows = []
+        for k in range(n_of[s]):
+            P = floor * pillar_plateau(gaps[k], s, reach)
+            P = floor + (P - floor) * (1 + P_noise * rng.standard_normal())
+            c = cpop * max(1 + c_sd * zc[k], 0.05)
+            fl = floor * (1 + 0.02 * rng.standard_normal())
+            for p in pre:
+                rows.append((first_seed + k, p, p, min(max(fl, c * p), P)))
+        out[s] = tuple(np.array(col) for col in zip(*rows))
+        truth[s] = Ppop
+    return out, truth, floor

@@ -51,11 +51,15 @@ def test_the_measured_loss_lies_in_its_bracket_and_its_interval_holds_the_truth(
         assert (lo, hi) == (DENSE[4], DENSE[5])
         a, b = st.sigma_loss_ci
         assert lo <= st.sigma_loss <= hi and a <= st.sigma_loss <= b
-        # the span holds the interval and the bracket, and leaves the bracket only where a
-        # group's state is not certain with its seeds, which the page says
+        # the span holds the bracket and where another seed set would measure (the interval
+        # widened by sqrt(2) in log sigma~), and leaves them only where a group's state is not
+        # certain with its seeds, which the page says
         s_lo, s_hi = st.loss.span
-        assert s_lo <= min(a, lo) and max(b, hi) <= s_hi
-        assert (s_lo, s_hi) == (lo, hi) or st.loss.uncertain
+        A, B = st.loss.another
+        assert A == pytest.approx(st.sigma_loss * (a / st.sigma_loss) ** math.sqrt(2))
+        assert B == pytest.approx(st.sigma_loss * (b / st.sigma_loss) ** math.sqrt(2))
+        assert s_lo <= min(A, lo) and max(B, hi) <= s_hi
+        assert (s_lo, s_hi) == (min(lo, A), max(hi, B)) or st.loss.uncertain
         assert not st.loss.uncertain or "is not certain" in verdict_text.loss_note(st)
         assert st.sigma_loss == pytest.approx(1.0, rel=0.03)
         held += st.sigma_loss_ci[0] <= 1.0 <= st.sigma_loss_ci[1]
@@ -202,3 +206,36 @@ def test_no_loss_up_to_the_search_limit_is_said_to_be_the_limit():
     fixed = {"campaign_yaml": yaml.safe_dump({"sigma_tilde": [0.07, 2.1]})}
     assert math.isnan(loss_page.search_max(fixed))
     assert "search's limit" not in headline._loss_value(1.0, st, loss_page.search_max(fixed))
+
+
+def test_another_seed_set_widens_the_interval_by_sqrt2_in_log_sigma():
+    # the difference of two independent estimates is sqrt(2) times as wide as either's scatter
+    lo, hi = loss.another_set(1.0, (0.8, 1.5))
+    assert lo == pytest.approx(0.8 ** math.sqrt(2)) and hi == pytest.approx(1.5 ** math.sqrt(2))
+    # about the estimate, in log sigma~: each side keeps its own width (the skew stays)
+    lo, hi = loss.another_set(2.0, (1.0, 3.0))
+    assert math.log(2.0 / lo) == pytest.approx(math.sqrt(2) * math.log(2.0))
+    assert math.log(hi / 2.0) == pytest.approx(math.sqrt(2) * math.log(1.5))
+    assert loss.another_set(2.0, (1.0, 3.0), factor=1.0) == pytest.approx((1.0, 3.0))
+    # ends at 0 and inf stay; no estimate or no interval: no interval
+    assert loss.another_set(1.0, (0.0, math.inf)) == (0.0, math.inf)
+    assert all(math.isnan(v) for v in loss.another_set(math.nan, (0.5, 2.0)))
+    assert all(math.isnan(v) for v in loss.another_set(1.0, (math.nan, 2.0)))
+    # an interval that does not hold its estimate is widened from the estimate, never narrowed
+    lo, hi = loss.another_set(1.0, (1.2, 1.5))
+    assert lo == 1.0 and hi == pytest.approx(1.5 ** math.sqrt(2))
+
+
+def test_the_span_holds_where_another_seed_set_would_measure():
+    # two certain groups around the loss, replicates that scatter the crossing: the span is the
+    # bracket widened to the interval another seed set would measure in, not to the seed CI
+    rng = np.random.default_rng(0)
+    reps = np.vstack([LOSS * 1.3 * np.exp(0.15 * rng.standard_normal(400)),
+                      LOSS * 0.8 * np.exp(0.15 * rng.standard_normal(400))])
+    m = loss.measure([1.0, 1.2], [RESOLVED, LOST], [1.3 * LOSS, 0.8 * LOSS], LOSS, reps,
+                     n_seeds=(10, 10), plateau_cis=[(1.2 * LOSS, 1.4 * LOSS),
+                                                    (0.7 * LOSS, 0.9 * LOSS)])
+    assert m.ci[0] < m.sigma < m.ci[1]
+    assert m.another == pytest.approx(loss.another_set(m.sigma, m.ci))
+    assert m.another[0] < m.ci[0] and m.another[1] > m.ci[1]
+    assert m.span == pytest.approx((min(1.0, m.another[0]), max(1.2, m.another[1])))

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 from ..laws.intervals import dominant
 from ..laws.size import DIFFERS
-from .loss_page import measured_cell
+from .loss_page import measured_cell, measured_span
 from .notation import clauses, once, page_text
 from .verdict_text import (ab_notes, ci_method, law_why, line_out, loss_note, relation_why,
                            study_notes)
@@ -118,8 +118,9 @@ def alpha_beta(d) -> Table:
                        "n_sigma_in_fit", "n_c_zero", "chi2_per_dof", "poor_fit", "bias_rel",
                        "dominant_alpha", "ci_method", "sigma_tilde_c_measured",
                        "sigma_tilde_c_measured_lo", "sigma_tilde_c_measured_hi", "loss_kind",
-                       "loss_bracket_lo", "loss_bracket_hi", "loss_vs_law", "loss_vs_law_why",
-                       "note"])
+                       "loss_bracket_lo", "loss_bracket_hi", "sigma_tilde_c_another_lo",
+                       "sigma_tilde_c_another_hi", "loss_span_lo", "loss_span_hi",
+                       "loss_vs_law", "loss_vs_law_why", "note"])
     t.page_rows.append(["k̃", "σ̃_c measured: adhesion lost [seed CI] in its span "
                         "(model-free)", "law", "α [seed CI]", "β [seed CI]",
                         "zero of the line, α/β: an extrapolation [seed CI]",
@@ -136,7 +137,9 @@ def alpha_beta(d) -> Table:
                            str(a.n_active), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
                            num(d.bias), dom, ci_method(st), num(st.sigma_loss),
                            *_ci_csv(st.sigma_loss_ci), st.loss_kind, num(st.loss_bracket[0]),
-                           num(st.loss_bracket[1]), str(st.loss_vs_law), relation_why(st), note])
+                           num(st.loss_bracket[1]), *_ci_csv(st.loss.another),
+                           *_ci_csv(measured_span(st)), str(st.loss_vs_law), relation_why(st),
+                           note])
         shown = st.status != "undefined"
         law = st.status if st.status == "fitted" else f"**{st.status}**"
         t.page_rows.append([f"{k:g}", measured_cell(st), law,

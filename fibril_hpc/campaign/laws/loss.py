@@ -15,12 +15,22 @@ replicate whose two plateaus lie on one side of the threshold crosses outside [l
 log-log line extended, or beyond hi where the plateau does not fall), its percentile interval
 widened for the fewer seeds of the two groups (:func:`.intervals.expanded`).
 
+**Another seed set.** The seed interval says where the population's crossing lies; another
+set of as many seeds measures its own crossing, scattered about the population's as much as
+this one: the difference of two such estimates is sqrt(2) times as wide. The interval another
+seed set of this size would measure in (:attr:`Loss.another`, 95 %) is the seed interval widened
+about the estimate by ``ANOTHER`` = sqrt(2) on each side, in log sigma~ (the crossing scatters
+in proportion: its two sides keep their skew). A narrow seed interval that another seed set's
+estimate falls outside is the failure this guards against (``benchmarks/pillar_reproduce.py``
+measures both rates on brushes of whole pillars through the real search).
+
 **States that are not certain.** A group's state is *not certain* with its seeds when its
 plateau's seed interval holds the threshold. The *span* of the measurement is the bracket
 widened down to the largest sigma~ below it whose group holds adhesion for certain (0 when none)
 and up to the smallest sigma~ from hi on that is lost for certain (inf when none), and to the
-crossing's interval; an interval end that is infinite makes the span infinite on that side (the
-least certain case, never the bracket). :mod:`.verdict` compares alpha/beta's zero with the span.
+interval another seed set would measure in; an interval end that is infinite makes the span
+infinite on that side (the least certain case, never the bracket). :mod:`.verdict` compares
+alpha/beta's zero with the span.
 
 **Each seed's own crossing** (:attr:`Loss.per_seed`, set by the study): for every seed in both
 bracketing groups, the crossing of its own two plateaus (unclipped): how far one brush's loss
@@ -42,6 +52,9 @@ from .intervals import expanded, percentile_interval
 from .reading import LOST, RESOLVED, UNRESOLVED
 
 NAN2 = (math.nan, math.nan)
+#: how much wider (in log sigma~, each side) another seed set's estimate scatters about this one
+#: than the population's crossing does: the sd of a difference of two independent estimates
+ANOTHER = math.sqrt(2.0)
 #: :attr:`Loss.kind` values: a bracket, no group lost, every group lost, nothing read
 BRACKET, NO_LOSS, ALL_LOST, NOT_READ = "bracket", "no loss", "lost at every sigma~", "not read"
 
@@ -55,6 +68,7 @@ class Loss:
     span: tuple = NAN2              # the bracket widened by states not certain and the interval
     sigma: float = math.nan         # where the seed-mean plateau crosses the threshold
     ci: tuple = NAN2                # its seed interval (widened for few seeds)
+    another: tuple = NAN2           # where another seed set of this size would measure it
     threshold: float = math.nan     # FEW_PILLARS pillars' pull-off
     n_seeds: int = 0                # the fewer seeds of the two bracketing groups
     uncertain: tuple = ()           # sigma~ whose state is not certain with its seeds
@@ -94,6 +108,18 @@ def crossing(s_lo: float, s_hi: float, p_lo: float, p_hi: float, thr: float,
     else:
         s = max(s_lo + t * (s_hi - s_lo), 0.0)
     return min(max(s, s_lo), s_hi) if clip else s
+
+
+def another_set(s: float, ci: tuple, factor: float = ANOTHER) -> tuple:
+    """The interval another seed set of as many seeds would measure the crossing in: ``ci``
+    widened about ``s`` by ``factor`` on each side in log sigma~ (an end at 0 or inf stays; no
+    interval or no estimate: no interval)."""
+    lo, hi = ci
+    if not (math.isfinite(s) and s > 0) or math.isnan(lo) or math.isnan(hi):
+        return NAN2
+    lo2 = s * (lo / s) ** factor if 0 < lo < s else min(lo, s)
+    hi2 = s * (hi / s) ** factor if s < hi < math.inf else max(hi, s)
+    return lo2, hi2
 
 
 def _uncertain(plateau_cis, thr: float, i: int) -> bool:
@@ -149,8 +175,9 @@ def measure(sigmas, states, plateaus, thr: float, reps=None, n_seeds=(),
         rs = np.array([crossing(lo, hi, a, b, thr, clip=False)
                        for a, b in zip(reps[i], reps[j])])
         out.ci = tuple(max(v, 0.0) for v in expanded(s, percentile_interval(rs), out.n_seeds))
+    out.another = another_set(s, out.ci)
     s_lo, s_hi = _span(sigmas, states, plateau_cis, thr, i, j)
-    c_lo, c_hi = out.ci
+    c_lo, c_hi = out.another
     out.span = (min(s_lo, c_lo) if not math.isnan(c_lo) else s_lo,
                 max(s_hi, c_hi) if not math.isnan(c_hi) else s_hi)
     out.again = tuple(float(x) for x, st in zip(sigmas[j + 1:], states[j + 1:])
@@ -158,5 +185,5 @@ def measure(sigmas, states, plateaus, thr: float, reps=None, n_seeds=(),
     return out
 
 
-__all__ = ["Loss", "measure", "crossing", "bracket_indices", "BRACKET", "NO_LOSS",
+__all__ = ["Loss", "measure", "crossing", "another_set", "ANOTHER", "bracket_indices", "BRACKET", "NO_LOSS",
            "ALL_LOST", "NOT_READ"]

@@ -268,7 +268,7 @@ def _measure_loss(st: KStudy, plateau_reps, floor: float) -> None:
     if pair is not None and plateau_reps is not None:
         spread = any(np.nanstd(plateau_reps[k]) > 0 for k in pair)
         if _spread(ci, spread) != ci:
-            st.loss.ci = NAN2
+            st.loss.ci = st.loss.another = NAN2
 
 
 def _per_seed(st: KStudy, pts: dict, half: float, floor: float) -> None:
