@@ -125,7 +125,10 @@ def one(n_side: int, draw: int, n_boot: int) -> dict:
             "ci_other": [has(a.ci, b.sigma), has(b.ci, a.sigma)],
             "span_other": [has(a.span, b.sigma), has(b.span, a.sigma)],
             "ci_ratio": [width(a.ci), width(b.ci)], "span_ratio": [width(a.span), width(b.span)],
-            "n_groups": [len(st[0].groups), len(st[10].groups)]}
+            "n_groups": [len(st[0].groups), len(st[10].groups)],
+            "another_other": [has(a.another, b.sigma), has(b.another, a.sigma)],
+            "another_truth": [has(a.another, 1.0), has(b.another, 1.0)],
+            "seeds_at_loss": [a.n_seeds, b.n_seeds]}
 
 
 def main(argv=None) -> int:
@@ -154,7 +157,11 @@ def main(argv=None) -> int:
           f"claimed 95 %")
     print(f"{'interval':>10} | {'holds truth':>11} | {'holds other set':>15} | median hi/lo")
     print(f"{'seed CI':>10} | {rate('ci_truth'):>11} | {rate('ci_other'):>15} | {med('ci_ratio'):.2f}")
+    print(f"{'another':>10} | {rate('another_truth'):>11} | {rate('another_other'):>15} |")
     print(f"{'span':>10} | {rate('span_truth'):>11} | {rate('span_other'):>15} | {med('span_ratio'):.2f}")
+    n_at = sorted(x for r in res for x in r["seeds_at_loss"])
+    print(f"seeds at the loss bracket (the fewer of its two groups, as seeds: auto stopped): "
+          f"median {statistics.median(n_at)}, range {n_at[0]}-{n_at[-1]}")
     ests = [x for r in res for x in (r["est_a"], r["est_b"]) if math.isfinite(x)]
     print(f"estimates: median {statistics.median(ests):.3f}, 2.5-97.5 % "
           f"{np.percentile(ests, 2.5):.3f}-{np.percentile(ests, 97.5):.3f}")

@@ -151,6 +151,13 @@ def test_seed_intervals_and_the_preset_bias():
     lo, hi = intervals.percentile_interval(reps[0])
     assert 0 <= lo < 1 < hi <= 2
     assert intervals.percentile_interval([1.0, 2.0, math.inf, math.inf])[1] == math.inf
+    # an end that the percentile interpolates towards an unbounded replicate is unbounded, never
+    # a huge number on the page (found on a pillar-brush search: 6.4e299)
+    r = list(np.linspace(1.0, 2.0, 39)) + [math.inf]
+    assert intervals.percentile_interval(r)[1] == math.inf
+    assert intervals.percentile_interval([-math.inf] + r[:-1])[0] == -math.inf
+    assert intervals.percentile_interval(r[:-1] + [3.0]) == pytest.approx(
+        tuple(np.percentile(r[:-1] + [3.0], [2.5, 97.5])))
     assert intervals.preset_bias("fast", 6)[0] == -0.036
     assert math.isnan(intervals.preset_bias("fast", 8)[0])
     assert intervals.dominant(1.0, (0.9, 1.1), -0.036) == "seeds"

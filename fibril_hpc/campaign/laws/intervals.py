@@ -125,7 +125,10 @@ def percentile_interval(replicates, level: float = LEVEL) -> tuple[float, float]
     r = np.clip(r, -_BIG, _BIG)
     q = (1 - level) / 2
     lo, hi = np.percentile(r, [100 * q, 100 * (1 - q)])
-    return (-math.inf if lo <= -_BIG else float(lo)), (math.inf if hi >= _BIG else float(hi))
+    # an end interpolated towards an unbounded replicate is unbounded (not a huge number)
+    lo_n = np.percentile(r, 100 * q, method="lower")
+    hi_n = np.percentile(r, 100 * (1 - q), method="higher")
+    return (-math.inf if lo_n <= -_BIG else float(lo)), (math.inf if hi_n >= _BIG else float(hi))
 
 
 def small_sample_factor(n_seeds: int, level: float = LEVEL) -> float:
