@@ -36,7 +36,9 @@ def main(argv=None):
     rows = json.load(open(a.results))["rows"]
     tally = {}
     for r in rows:
-        ev = lambda k: ast.literal_eval(r[k].replace("inf", "1e999").replace("nan", "None"))  # noqa: E731
+        def ev(k, r=r):
+            return ast.literal_eval(r[k].replace("inf", "1e999").replace("nan", "None"))
+
         est = {"a": float(r["est_a"]), "b": float(r["est_b"])}
         for me, other in (("a", "b"), ("b", "a")):
             ci = tuple(math.nan if v is None else float(v) for v in ev(f"ci_{me}"))
