@@ -239,3 +239,14 @@ def test_the_span_holds_where_another_seed_set_would_measure():
     assert m.another == pytest.approx(loss.another_set(m.sigma, m.ci))
     assert m.another[0] < m.ci[0] and m.another[1] > m.ci[1]
     assert m.span == pytest.approx((min(1.0, m.another[0]), max(1.2, m.another[1])))
+
+
+def test_each_seeds_own_crossing_is_said_as_bounds_never_0_or_inf():
+    from types import SimpleNamespace
+
+    m = loss.Loss(kind=loss.BRACKET, bracket=(0.8, 1.2), span=(0.7, 1.4), sigma=1.0,
+                  ci=(0.9, 1.1), threshold=LOSS, per_seed=((0, 0.0), (1, 1.05), (2, math.inf)))
+    note = verdict_text.loss_note(SimpleNamespace(loss=m))
+    assert "from below 0.8 to above 1.2 (3 seeds)" in note
+    m.per_seed = ((0, 0.9), (1, 1.05), (2, math.nan))
+    assert "from 0.9 to 1.05 (2 seeds)" in verdict_text.loss_note(SimpleNamespace(loss=m))

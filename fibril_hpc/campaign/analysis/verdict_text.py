@@ -154,9 +154,11 @@ def loss_note(st) -> str:
                 f"loss threshold {m.threshold:.3g}; bracket {lo:.3g}-{hi:.3g})")
         own = [x for _, x in m.per_seed if not math.isnan(x)]
         if len(own) > 1:
-            note += (f"; each seed's own crossing lies in {min(own):.3g}-"
-                     + ("∞" if max(own) == math.inf else f"{max(own):.3g}")
-                     + f" ({len(own)} seeds)")
+            # a seed lost at both groups crosses somewhere below lo (0 by the crossing's rule),
+            # one holding at both somewhere above hi (inf): said as bounds, never "0" or "∞"
+            low = f"below {lo:.3g}" if min(own) <= 0 else f"{min(own):.3g}"
+            high = f"above {hi:.3g}" if max(own) == math.inf else f"{max(own):.3g}"
+            note += f"; each seed's own crossing lies from {low} to {high} ({len(own)} seeds)"
         if m.again:
             note += ("; adhesion is found again above it at sigma~ = "
                      + ", ".join(f"{x:g}" for x in m.again) + " (not monotone in sigma~)")
