@@ -159,6 +159,10 @@ def loss_note(st) -> str:
             low = f"below {lo:.3g}" if min(own) <= 0 else f"{min(own):.3g}"
             high = f"above {hi:.3g}" if max(own) == math.inf else f"{max(own):.3g}"
             note += f"; each seed's own crossing lies from {low} to {high} ({len(own)} seeds)"
+        if m.matched:
+            note += (f"; the two groups ran {m.matched[0]} and {m.matched[1]} seeds: the crossing "
+                     f"compares the same {m.matched[0]} brushes (the smaller group's plateau "
+                     "carried to them by how its seeds stand to them where both ran)")
         if m.again:
             note += ("; adhesion is found again above it at sigma~ = "
                      + ", ".join(f"{x:g}" for x in m.again) + " (not monotone in sigma~)")

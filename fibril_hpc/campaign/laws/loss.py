@@ -74,6 +74,8 @@ class Loss:
     uncertain: tuple = ()           # sigma~ whose state is not certain with its seeds
     again: tuple = ()               # sigma~ above the loss holding adhesion again (not monotone)
     per_seed: tuple = ()            # ((seed, its own crossing), ...) for seeds in both groups
+    matched: tuple = ()             # (seeds of the larger group, of the other) where the
+    #                                 other's plateau was carried to the larger's seeds (study)
 
 
 def bracket_indices(sigmas, states):

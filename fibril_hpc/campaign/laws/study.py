@@ -186,6 +186,7 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
 
     sets = [sorted(set(pts[s][0].tolist())) for s in sigmas]
     uneven = any(x != sets[0] for x in sets)
+    match = _matched_pair(groups, sets)
 
     def stat(picked):               # one resample of the labels for every group, or one each
         out = []
@@ -193,6 +194,10 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
             r = read_group(*_resample(pts[s], picked[i] if uneven else picked), half=half,
                            floor=floor)
             out += [r.plateau, r.c, r.c0]
+        if match is not None:       # the bracket's larger group read on the other's labels
+            ref, other = match
+            out.append(read_group(*_resample(pts[sigmas[ref]], picked[other]), half=half,
+                                  floor=floor).plateau)
         return np.array(out)
 
     # groups with different seed sets (seeds: auto): the drawn labels each holds, paired
@@ -214,7 +219,12 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
     st = KStudy(float(k_tilde), groups, ab, ci_kind=kind, n_labels=len(labels),
                 min_seeds=min(map(len, sets)) if sets else 0,
                 n_resamples=0 if reps is None else reps.shape[1])
-    _measure_loss(st, None if reps is None else reps[0::3], floor)
+    on_other = None
+    if match is not None:           # the full data's: the larger group on the other's seeds
+        on_other = read_group(*_resample(pts[sigmas[match[0]]], sets[match[1]]), half=half,
+                              floor=floor).plateau
+    _measure_loss(st, None if reps is None else reps[0:3 * n:3], floor, match, on_other,
+                  None if reps is None or match is None else reps[3 * n])
     _per_seed(st, pts, half, floor)
     if not ab.ok:
         return judge(st)
@@ -255,13 +265,58 @@ def _spread(ci: tuple, scatter: bool) -> tuple:
     return ci
 
 
-def _measure_loss(st: KStudy, plateau_reps, floor: float) -> None:
+def _matched_pair(groups, sets):
+    """(larger, other): the indices of the loss bracket's two groups where their seed sets
+    differ and one holds the other's (``seeds: auto`` runs seeds first .. first + n - 1, so its
+    sets are nested); None where they are equal, not nested, or there is no bracket."""
+    pair = _loss.bracket_indices([g.sigma_tilde for g in groups],
+                                 [g.reading.state for g in groups])
+    if pair is None:
+        return None
+    i, j = pair
+    a, b = set(sets[i]), set(sets[j])
+    if a == b:
+        return None
+    if b < a:
+        return i, j
+    return (j, i) if a < b else None
+
+
+def _matched(other, larger, larger_on_other):
+    """The other group's plateau carried to the larger group's seeds: its own seed mean times
+    how the larger group's seeds stand to the other's seeds where both ran (a seed is the same
+    brush in both groups). NaN where that ratio is not a positive number."""
+    with np.errstate(all="ignore"):
+        ratio = np.asarray(larger, dtype=float) / np.asarray(larger_on_other, dtype=float)
+        out = np.asarray(other, dtype=float) * ratio
+    return np.where(np.isfinite(ratio) & (ratio > 0), out, np.nan)
+
+
+def _measure_loss(st: KStudy, plateau_reps, floor: float, match=None, on_other=math.nan,
+                  on_other_reps=None) -> None:
     """Set the measured loss of ``st`` (:func:`.loss.measure`) from its groups and the bootstrap
-    replicates of their plateaus (one row per group, or None)."""
+    replicates of their plateaus (one row per group, or None).
+
+    **Seeds matched across the bracket.** Where the bracket's two groups ran different seeds
+    (``seeds: auto`` gives more to one of them; ``match`` = (larger, other)), their two seed
+    means are means over different brushes, and the crossing between them would mix the sigma~
+    step with which brushes each holds. The other group's plateau is carried to the larger
+    group's seeds (:func:`_matched`, with ``on_other``: the larger group read on the other's
+    seeds; in every replicate likewise, ``on_other_reps``), so both ends of the crossing are
+    means over the same brushes."""
     gs = st.groups
+    plateaus = [g.reading.plateau for g in gs]
+    if match is not None:
+        ref, other = match
+        plateaus[other] = float(_matched(plateaus[other], plateaus[ref], on_other))
+        if plateau_reps is not None and on_other_reps is not None:
+            plateau_reps = np.array(plateau_reps, dtype=float)
+            plateau_reps[other] = _matched(plateau_reps[other], plateau_reps[ref], on_other_reps)
     st.loss = _loss.measure([g.sigma_tilde for g in gs], [g.reading.state for g in gs],
-                            [g.reading.plateau for g in gs], FEW_PILLARS * floor, plateau_reps,
+                            plateaus, FEW_PILLARS * floor, plateau_reps,
                             [g.n_seeds for g in gs], [g.plateau_ci for g in gs])
+    if match is not None:
+        st.loss.matched = (gs[match[0]].n_seeds, gs[match[1]].n_seeds)
     ci = st.loss.ci
     # no zero-width interval where the two plateaus scatter
     pair = _loss.bracket_indices([g.sigma_tilde for g in gs], [g.reading.state for g in gs])
