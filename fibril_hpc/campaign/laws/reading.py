@@ -159,6 +159,25 @@ def levels(seed, preload, F_P, F_A) -> Levels:
                   np.asarray(cols[4], dtype=int), *(np.asarray(c, dtype=float) for c in cols[5:]))
 
 
+def read_levels(lv: Levels) -> Levels:
+    """The levels a reading reads: ``lv`` without its thin levels, while at least two full
+    levels remain (else all of them)."""
+    return lv.subset(~lv.thin) if lv.thin.any() and int((~lv.thin).sum()) >= 2 else lv
+
+
+def secant(lv: Levels, plateau: float, fraction: float = HALF) -> float:
+    """The slope of the line through the origin and the point where the seed-mean curve first
+    reaches ``fraction`` of ``plateau`` above the smallest level (F~_P interpolated linearly in
+    F~_A against log F~_P): c at ``fraction`` = HALF, other fractions for studies
+    (benchmarks/paper_table.py). NaN where the smallest level is already there or the curve
+    never gets there."""
+    y = fraction * plateau
+    if not len(lv) or lv.F_A[0] >= y:
+        return math.nan
+    x, _ = _crossing(lv, y, log=True)
+    return y / x if math.isfinite(x) and x > 0 else math.nan
+
+
 def _by_seed(p, seeds, xs, ys) -> dict:
     """{seed: (F~_P, F~_A)} of the points of one preload ``p``; a seed twice with different
     numbers is a ``ValueError``."""
@@ -298,8 +317,7 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
         notes.append(f"{len(thin)} level(s) with fewer seeds than the group's {int(lv.n.max())} "
                      "(F~_P = " + ", ".join(f"{lv.F_P[i]:.3g}: {lv.n[i]}" for i in thin)
                      + "): shown, not read (a seed mean over other seeds is not comparable)")
-        if len(lv) - len(thin) >= 2:
-            lv = lv.subset(~lv.thin)
+    lv = read_levels(lv)
     s = plateau_set(lv, n_seeds)
     full = np.flatnonzero(~lv.thin)
     top = int(full[-1]) if full.size else len(lv) - 1
@@ -373,7 +391,7 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
     few_ = few if math.isfinite(few) else 0.0
     stage = [i for i in range(nf, ih)
              if few_ < lv.F_A[i] <= y_half and lv.F_P[i] > 0]
-    c = y_half / xh if math.isfinite(xh) and xh > 0 else nan
+    c = secant(lv, P, HALF)
     # the half point's resolution: the crossing interpolated linearly in F~_P instead of log
     xl, _ = _crossing(lv, y_half, log=False)
     c_res = abs(c - y_half / xl) if math.isfinite(c) and math.isfinite(xl) and xl > 0 else nan
