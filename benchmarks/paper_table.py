@@ -186,6 +186,7 @@ def _fmt(v, ci=None):
     if not math.isfinite(v):
         return "—"
     s = f"{v:.3g}"
+    ci = None if ci is None else tuple(math.inf if x > 1e290 else x for x in ci)
     if ci is not None and all(math.isfinite(x) for x in ci):
         s += f" [{ci[0]:.3g}, {ci[1]:.3g}]"
     elif ci is not None and math.isfinite(ci[0]):
