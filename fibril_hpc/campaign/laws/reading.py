@@ -42,7 +42,7 @@ of the line through the origin and the point where the seed-mean curve first rea
 plateau, c = (P/2) / F~_P,1/2, with F~_P,1/2 interpolated linearly in F~_A against log F~_P
 between the two levels around it (the preloads are spaced in log) (:func:`secant` at ``HALF``).
 The rise is concave over decades, so "the linear stage" is a choice of secant; this one is not
-the paper's own reading (its alpha is 3-3.5 times the paper's Table 1; a secant to 90 % of the
+the paper's own reading (its alpha is 2.9-3.4 times the paper's Table 1; a secant to 90 % of the
 plateau comes near the paper's absolute alpha, which is calibration, not validation). Preloads
 added below the rise do not move it (only the two levels around the half point do), and its
 resolution is their spacing (``F_P: auto`` brackets the kink to a factor 2; the reading notes a
