@@ -68,6 +68,11 @@ def coarse_loading(job) -> bool:
     """True where the record's loading batches spanned more than :data:`BOUND` of the brush's
     length spread, by what the record says (module text); False where they did not or the
     record does not tell."""
+    text = job.get("scene_yaml") or ""
+    if "load_merge_spread" not in text:             # the default: only the finish time tells
+        done = _finished(job)
+        if done is None or done >= SPREAD_BOUND_FROM:
+            return False                            # (no scene text parsed: reports stay quick)
     solver = _solver(job)
     sigma = job.get("sigma_tilde")
     if solver is None or not isinstance(sigma, (int, float)) or not sigma > 0:
