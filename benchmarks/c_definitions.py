@@ -9,7 +9,9 @@ Candidates (the report's columns, :mod:`fibril_hpc.campaign.laws.reading`):
   plateau (log F~_P interpolation);
 * ``c_stage`` - the least-squares slope through the origin over the linear-stage levels;
 * ``c_chord`` - the chord over the first half of the rise from the smallest level (the report's
-  c before issue 28).
+  c before issue 28);
+* ``sec70``, ``sec90`` - the secant through the origin to 70 % and 90 % of the plateau
+  (benchmarks/paper_table.py: readings nearer the plateau, less steep).
 
 Sampling variants of every (k~, sigma~) group (only groups whose rise is resolved in full):
 
@@ -35,8 +37,9 @@ import time
 
 import numpy as np
 
-CANDIDATES = ("c", "c_stage", "c_chord")
+CANDIDATES = ("c", "c_stage", "c_chord", "sec70", "sec90")
 VARIANTS = ("start", "sparse", "no_low", "low")
+SECANTS = {"sec70": 0.7, "sec90": 0.9}
 START = (0.001, 0.004, 0.016, 0.064, 0.25, 1.0, 4.0)
 
 
@@ -64,6 +67,17 @@ def main(argv=None) -> int:
     from fibril_hpc.campaign.laws.reading import LOST, RESOLVED, read_group
     from fibril_hpc.campaign.laws.study import _resample  # noqa: PLC2701 - a study of the study
 
+    from fibril_hpc.campaign.laws.reading import levels, read_levels, secant
+
+    def value(rr, pts, name):
+        """``name`` of a reading ``rr`` of ``pts``: 0 for a lost group, else its value."""
+        if rr.state == LOST:
+            return 0.0
+        if name in SECANTS:
+            return (secant(read_levels(levels(*pts)), rr.plateau, SECANTS[name])
+                    if rr.state == RESOLVED else math.nan)
+        return getattr(rr, name)
+
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("campaign")
     ap.add_argument("--n-boot", type=int, default=100)
@@ -82,11 +96,12 @@ def main(argv=None) -> int:
         if r.state != RESOLVED or r.plateau_state != "reached":
             continue
         for v in VARIANTS:
-            rv = read_group(*_variant(pts, v), floor=floor)
+            pv = _variant(pts, v)
+            rv = read_group(*pv, floor=floor)
             if rv.state != RESOLVED:
                 continue
             for name in CANDIDATES:
-                full, var = getattr(r, name), getattr(rv, name)
+                full, var = value(r, pts, name), value(rv, pv, name)
                 if math.isfinite(full) and math.isfinite(var) and full > 0:
                     sens[name][v].append(abs(var / full - 1))
     fits = {name: {} for name in CANDIDATES}
@@ -100,14 +115,15 @@ def main(argv=None) -> int:
         def stat(picked, use=use):
             out = []
             for _, pts, _ in use:
-                rr = read_group(*_resample(pts, picked), floor=floor)
-                out += [getattr(rr, n) if rr.state in (RESOLVED, LOST) else math.nan
+                pr = _resample(pts, picked)
+                rr = read_group(*pr, floor=floor)
+                out += [value(rr, pr, n) if rr.state in (RESOLVED, LOST) else math.nan
                         for n in CANDIDATES]
             return np.array(out)
 
         reps = seed_replicates(labels, stat, a.n_boot, 0)
         for j, name in enumerate(CANDIDATES):
-            cs = [getattr(r, name) for _, _, r in use]
+            cs = [value(r, pts, name) for _, pts, r in use]
             sd = [max(replicate_sd(reps[len(CANDIDATES) * i + j]), r.c_detect)
                   if reps is not None else math.nan for i, (_, _, r) in enumerate(use)]
             ok = [math.isfinite(v) for v in cs]

@@ -26,6 +26,7 @@ from ..laws.intervals import dominant
 from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED
 from ..laws.size import DIFFERS, WITHIN
 from ..laws.verdict import Relation
+from .batching import C_BIAS
 from .loss_page import measured_span, search_max, span_text
 from .size_loss_page import headline_line as size_loss_line
 from .verdict_text import RELATION_WORDS, law_why, why_out
@@ -163,6 +164,14 @@ def notes(d) -> list:
     out.append(f"States of the {sum(states.values())} (k̃, σ̃): "
                + ", ".join(f"{v} {s}" for s, v in sorted(states.items()))
                + (f" (pillar floor: {d.floor_note})" if d.floor_note else "") + ".")
+    if d.coarse:
+        out.append(f"{len(d.coarse)} (k̃, σ̃) were loaded in batches wider than a tenth of the "
+                   "brush's length spread (records finished before loading batches were bounded "
+                   "by it, or `load_merge_spread` set above 0.1): "
+                   + ", ".join(f"({k:g}, {s:g})" for k, s in d.coarse)
+                   + ". Their plateau stands, their rise does not: many pillars touch at once, "
+                   f"F̃_A rises early and c comes out too high (by up to {C_BIAS:.0%} on "
+                   "the same seeds; no reading of c undoes it). Rerun them into a fresh output.")
     if states.get(UNRESOLVED):
         out.append(f"{states[UNRESOLVED]} (k̃, σ̃) have a rise not resolved: F̃_A is already "
                    "near the plateau at the smallest preload reached, c is only a lower bound "

@@ -26,6 +26,7 @@ from ..laws.reading import FEW_PILLARS, levels, pillar_floor
 from ..laws.size import size_rows
 from ..laws.size_loss import size_losses
 from ..laws.study import N_BOOT, study
+from .batching import coarse_groups
 from .headline import headline, notes
 from .seed_limits import seed_limits, seeds_auto
 from .variants import Variant, select
@@ -83,6 +84,9 @@ class ReportData:
     #: a grid sweeping n_side over two sizes or more: where adhesion is lost, per size and in
     #: the large-brush limit ({k~: :class:`.laws.size_loss.SizeLoss`})
     size_loss: dict = field(default_factory=dict)
+    #: the (k~, sigma~) loaded in batches wider than today's bound (:mod:`.batching`): their
+    #: rise, and c, are biased
+    coarse: list = field(default_factory=list)
 
     def main_jobs(self, jobs) -> list:
         """The jobs the per-(k~, sigma~) readings use: those of :attr:`variant` and
@@ -289,5 +293,6 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
     d.seed_limits = seed_limits(points, floor, d.seeds_auto)
     d.brush = campaign_brush(c.meta, done, n_read)
     d.size_loss = sloss
+    d.coarse = [g for g in coarse_groups(d.main_jobs(jobs)) if g in points]
     d.headline, d.notes = headline(d), notes(d)
     return d
