@@ -44,6 +44,11 @@ SCOPE = {
     "fibril_hpc/campaign/plan/search.py": ["tests/test_mutants_search.py"],
     "fibril_hpc/campaign/laws/precision.py": ["tests/test_mutants_precision.py"],
     "fibril_hpc/campaign/laws/reading.py": ["tests/test_mutants_reading.py"],
+    "fibril_hpc/campaign/laws/alphabeta.py": ["tests/test_mutants_alphabeta.py",
+                                              "tests/test_report_verdict.py"],
+    "fibril_hpc/campaign/laws/verdict.py": ["tests/test_mutants_verdict.py",
+                                            "tests/test_report_verdict.py"],
+    "fibril_hpc/campaign/laws/size_loss.py": ["tests/test_mutants_size_loss.py"],
 }
 
 #: mutmut's exit-code meaning (mutmut.stats.status_by_exit_code), grouped for the table
