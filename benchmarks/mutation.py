@@ -49,6 +49,10 @@ SCOPE = {
     "fibril_hpc/campaign/laws/verdict.py": ["tests/test_mutants_verdict.py",
                                             "tests/test_report_verdict.py"],
     "fibril_hpc/campaign/laws/size_loss.py": ["tests/test_mutants_size_loss.py"],
+    "fibril_hpc/campaign/analysis/verdict_text.py": ["tests/test_mutants_verdict_text.py"],
+    "fibril_hpc/campaign/analysis/zero_cell.py": ["tests/test_mutants_verdict_text.py"],
+    "fibril_hpc/campaign/analysis/loss_page.py": ["tests/test_mutants_verdict_text.py"],
+    "fibril_hpc/campaign/analysis/size_loss_page.py": ["tests/test_mutants_size_loss_page.py"],
 }
 
 #: mutmut's exit-code meaning (mutmut.stats.status_by_exit_code), grouped for the table
