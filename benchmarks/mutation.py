@@ -53,6 +53,7 @@ SCOPE = {
     "fibril_hpc/campaign/analysis/zero_cell.py": ["tests/test_mutants_verdict_text.py"],
     "fibril_hpc/campaign/analysis/loss_page.py": ["tests/test_mutants_verdict_text.py"],
     "fibril_hpc/campaign/analysis/size_loss_page.py": ["tests/test_mutants_size_loss_page.py"],
+    "fibril_hpc/campaign/analysis/headline.py": ["tests/test_mutants_headline.py"],
 }
 
 #: mutmut's exit-code meaning (mutmut.stats.status_by_exit_code), grouped for the table

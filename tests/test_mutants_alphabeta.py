@@ -299,3 +299,22 @@ def test_enough_needs_three_active_points_and_one_dof():
     assert not fake.enough
     fake.n_active, fake.beta = 3, math.nan
     assert not fake.ok and not fake.enough
+
+
+def test_the_bracket_is_the_largest_rising_and_the_first_lost_above_it():
+    """A lost group below a rising one (c not monotone in sigma~) is not the loss's upper end."""
+    s = [0.2, 0.3, 0.5, 0.7, 0.9, 1.2]
+    c = [4.0, 2.5, 0.0, 0.8, 0.0, 0.0]
+    f = fit_alpha_beta(s, c, [0.1] * 6)
+    assert f.bracket == (0.7, 0.9) and f.n_zero == 3
+    assert fit_alpha_beta(s[:4], c[:4], [0.1] * 4).bracket[0] == 0.7
+    assert math.isnan(fit_alpha_beta(s[:4], c[:4], [0.1] * 4).bracket[1])
+
+
+def test_floor_without_any_sd_is_the_unweighted_fit():
+    s = [0.2, 0.3, 0.5, 0.7, 0.9, 1.2, 1.6]
+    c = [4.1, 2.2, 1.1, 0.65, 0.5, 0.0, 0.0]
+    floor = fit_alpha_beta(s, c, None, lost="floor")
+    own = fit_alpha_beta(s, c, None, lost="own")
+    assert not floor.weighted and Note.UNWEIGHTED in floor.notes
+    assert (floor.alpha, floor.beta) == pytest.approx((own.alpha, own.beta), rel=1e-9)
