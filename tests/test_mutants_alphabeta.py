@@ -162,7 +162,7 @@ def test_one_seed_is_unweighted_with_errors_from_the_residuals():
         f = fit_alpha_beta(S, C_TRUE + wiggle, sd)
         coef, cov = _wls(S, C_TRUE + wiggle, np.ones(S.size))
         r = C_TRUE + wiggle - (coef[0] / S - coef[1])
-        assert not f.weighted and not f.poor and f.notes == [Note.UNWEIGHTED]
+        assert not f.weighted and f.poor is False and f.notes == [Note.UNWEIGHTED]
         assert (f.alpha, f.beta) == pytest.approx(tuple(coef), rel=1e-7)
         assert f.chi2_red == pytest.approx(float(np.sum(r ** 2)) / 3, rel=1e-6)
         assert (f.alpha_se, f.beta_se) == pytest.approx(
@@ -318,3 +318,47 @@ def test_floor_without_any_sd_is_the_unweighted_fit():
     own = fit_alpha_beta(s, c, None, lost="own")
     assert not floor.weighted and Note.UNWEIGHTED in floor.notes
     assert (floor.alpha, floor.beta) == pytest.approx((own.alpha, own.beta), rel=1e-9)
+
+
+def test_one_dof_has_its_chi2_per_dof_and_scales_the_errors():
+    s, sd = [0.3, 0.6, 0.9], [0.05, 0.05, 0.05]
+    c = [1 / 0.3 - 0.8 + 0.2, 1 / 0.6 - 0.8 - 0.2, 1 / 0.9 - 0.8 + 0.2]
+    f = fit_alpha_beta(s, c, sd)
+    coef, cov = _wls(s, c, sd)
+    chi2 = float(np.sum(((np.array(c) - (coef[0] / np.array(s) - coef[1])) / 0.05) ** 2))
+    assert f.dof == 1 and f.chi2_red == pytest.approx(chi2, rel=1e-6) and chi2 > 1
+    assert (f.alpha_se, f.beta_se) == pytest.approx(tuple(np.sqrt(np.diag(cov) * chi2)),
+                                                    rel=1e-6)
+
+
+def test_a_rising_point_where_the_line_is_cut_adds_nothing_to_the_errors():
+    """The line reaches 0 before the last rising sigma~ (c levels off): there the law's c is
+    the cut's 0, whatever alpha and beta, so that point carries no information on them."""
+    s = np.array([0.2, 0.3, 0.5, 0.7, 2.0])
+    c = np.append(1 / s[:4] - 1.0 + np.array([0.01, -0.01, 0.01, -0.01]), 0.3)
+    sd = np.array([0.01, 0.01, 0.01, 0.01, 0.1])
+    f = fit_alpha_beta(s, c, sd)
+    assert 0.9 < f.sigma_c < 1.1 and f.n_active == 5 and f.residuals[4] == pytest.approx(0.3)
+    _, cov = _wls(s[:4], c[:4], sd[:4])          # the Jacobian of the points above the cut
+    scale = max(f.chi2_red, 1.0)
+    assert (f.alpha_se, f.beta_se) == pytest.approx(tuple(np.sqrt(np.diag(cov) * scale)),
+                                                    rel=1e-6)
+
+
+def test_one_seed_and_one_dof_is_still_unweighted_and_scaled():
+    s = [0.3, 0.6, 0.9]
+    c = [1 / 0.3 - 0.8 + 0.2, 1 / 0.6 - 0.8 - 0.2, 1 / 0.9 - 0.8 + 0.2]
+    f = fit_alpha_beta(s, c)
+    coef, cov = _wls(s, c, np.ones(3))
+    r2 = float(np.sum((np.array(c) - (coef[0] / np.array(s) - coef[1])) ** 2))
+    assert f.dof == 1 and f.notes == [Note.UNWEIGHTED] and f.poor is False
+    assert (f.alpha_se, f.beta_se) == pytest.approx(tuple(np.sqrt(np.diag(cov) * r2)), rel=1e-6)
+
+
+def test_points_that_say_nothing_of_the_slope_give_no_errors():
+    """Rising groups all at one sigma~: alpha and beta are not separable, the covariance does
+    not exist, and the errors are NaN rather than an exception or a number."""
+    for c in ([1.0, 1.2], [1.0, 1.2, 1.1]):
+        f = fit_alpha_beta([0.5] * len(c), c, [1.0] * len(c))
+        assert f.ok and math.isnan(f.alpha_se) and math.isnan(f.beta_se)
+        assert f.dof == len(c) - 2
