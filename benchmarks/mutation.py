@@ -2,7 +2,9 @@
 module against a list of fast, targeted test files, and the score table.
 
     python benchmarks/mutation.py                       # the issue-34 scope (SCOPE below)
-    python benchmarks/mutation.py --only precision      # the SCOPE entries whose module matches
+    python benchmarks/mutation.py --only precision      # the SCOPE entries whose module path
+                                                        # holds this text (laws/verdict: that
+                                                        # module; verdict: also verdict_text)
     python benchmarks/mutation.py --modules fibril_hpc/campaign/laws/size.py \
         --tests tests/test_campaign_size.py              # any module list against any test list
     python benchmarks/mutation.py --table               # the table of the last run, no rerun
