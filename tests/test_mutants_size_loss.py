@@ -64,8 +64,10 @@ def _reps(group_by_sigma, sigmas, floor, n_boot, seed):
     return out
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture
 def case():
+    # not module-scoped: mutmut runs, for a mutant, the tests it saw reach the function, and a
+    # shared fixture is reached by the first test that builds it only
     by_n = _brushes()
     s = sl.size_loss(1.0, by_n, st.PHI, n_boot=NB, rng_seed=3)
     reps = {n: _reps(by_n[n], SIG, pillar_floor(n, st.PHI), NB, 3 + 7919 * n) for n in SIZES}
@@ -139,8 +141,9 @@ def test_the_weighted_line_and_its_chi2():
                              np.append(y, [0.0, math.nan, 1.0, 3.0]),
                              np.append(w, [0.0, 1.0, 1.0, math.inf]))
     assert (a2, b2, c2) == pytest.approx((a, b, chi2), rel=1e-12)
-    assert sl.fit_line([1.0, 2.0], [1.0, 3.0], [1.0, -1.0]) == pytest.approx(
-        (math.nan, math.nan, math.nan), nan_ok=True)
+    for w in ([1.0, -1.0], [1.0, 0.0]):
+        assert sl.fit_line([1.0, 2.0], [1.0, 3.0], w) == pytest.approx(
+            (math.nan, math.nan, math.nan), nan_ok=True)
     assert sl.fit_line([1.0, 2.0], [1.0, 3.0], [1.0, 1.0]) == pytest.approx((-1.0, 2.0, 0.0),
                                                                              abs=1e-12)
 
@@ -380,3 +383,45 @@ def test_size_losses_groups_by_k_descending():
     ref = sl.size_loss(1.0, b1, st.PHI, n_boot=NB, rng_seed=6)
     assert seeded[1.0].plateau_ci == ref.plateau_ci
     assert seeded[1.0].area_threshold == sl.AREA_THRESHOLD
+
+
+def test_replicate_crossings_are_not_clipped():
+    """A replicate that never falls to the threshold crosses at inf, one already below it at the
+    first sigma~ at 0: the interval is then unbounded, or reaches 0, not the clipped bracket."""
+    sig = (0.2, 0.4, 0.8)
+    plat = np.array([1.0, 0.2, 0.05])
+    reps = np.array([[1.0, 0.2, 0.05]] * 8 + [[1.0, 0.5, 0.3]] * 2)
+    c = sl._crossing(8, sig, plat, reps, 0.1, 10)
+    assert c.kind == sl.BRACKET and c.ci[1] == math.inf and c.ci[0] <= c.sigma
+    reps = np.array([[1.0, 0.2, 0.05]] * 8 + [[0.05, 0.02, 0.01]] * 2)
+    c = sl._crossing(8, sig, plat, reps, 0.1, 10)
+    assert c.ci[0] == 0.0 and c.ci[1] >= c.sigma
+
+
+def test_two_seeds_give_intervals_and_one_resample_none():
+    s = sl.size_loss(1.0, _brushes(seeds=2), st.PHI, n_boot=NB)
+    assert all(math.isfinite(v) for n in SIZES for ci in s.plateau_ci[n] for v in ci)
+    assert all(e.state in (sl.HOLDS, sl.GONE) for e in s.extrapolations)
+    one = sl.size_loss(1.0, _brushes(), st.PHI, n_boot=1)
+    assert all(e.state == sl.UNKNOWN for e in one.extrapolations)
+    assert all(math.isnan(v) for e in one.extrapolations for v in e.p_inf_ci)
+    assert all(math.isnan(v) for v in one.sigma_inf_ci) and one.p_state == sl.NOT_FITTED
+
+
+def test_a_sigma_missing_at_one_size_is_no_replicate_there():
+    by_n = _brushes()
+    del by_n[12][0.4]
+    s = sl.size_loss(1.0, by_n, st.PHI, n_boot=NB, rng_seed=2)
+    assert all(math.isnan(v) for v in s.plateau_ci[12][1])
+    reps = _reps(by_n[12], SIG, pillar_floor(12, st.PHI), NB, 2 + 7919 * 12)
+    want = [expanded(v, percentile_interval(reps[:, i]), 3) if math.isfinite(v) else (math.nan,
+                                                                                       math.nan)
+            for i, v in enumerate(s.plateau[12])]
+    np.testing.assert_allclose(s.plateau_ci[12], want, rtol=1e-12)
+    assert [e.sigma_tilde for e in s.extrapolations] == [0.2, 0.5, 0.7]
+
+
+def test_no_loss_has_no_interval_even_with_resamples():
+    hold = sl.size_loss(1.0, _brushes(sigmas=(0.1, 0.2)), st.PHI, n_boot=NB)
+    assert hold.sigma_inf_kind == sl.NO_LOSS
+    assert all(math.isnan(v) for v in hold.sigma_inf_ci + hold.sigma_zero_ci)
