@@ -174,10 +174,10 @@ def test_the_measured_loss_in_one_sentence():
         "state of sigma~ = 2.1 is not certain (plateau interval holds the threshold): the loss "
         "lies in (1.5, ∞]")
     m = loss.Loss(kind=loss.ALL_LOST, bracket=(0.0, 0.123456), span=(0.0, 0.5),
-                  again=(0.7,), uncertain=(0.3,))
+                  again=(0.7, 0.9), uncertain=(0.3,))
     assert vt.loss_note(_study(measured=m)) == (
         "lost at every sigma~ run (< 0.123456): adhesion is already lost at the smallest "
-        "sigma~, sigma~_c < 0.123; adhesion is found again at sigma~ = 0.7 (not monotone in "
+        "sigma~, sigma~_c < 0.123; adhesion is found again at sigma~ = 0.7, 0.9 (not monotone in "
         "sigma~); with their seeds the state of sigma~ = 0.3 is not certain (plateau interval "
         "holds the threshold): the loss lies in (0, 0.5]")
     m = loss.Loss(kind=loss.ALL_LOST, bracket=(0.0, 0.2))
