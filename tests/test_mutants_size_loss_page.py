@@ -121,3 +121,40 @@ def test_the_headline_line():
         "0.7], 12: > 0.9 (not reached); k̃ = 0.01: per area (F̃_A = 0.1 in the N → ∞ "
         "extrapolation) σ̃ = < 0.2 (below every σ̃ run); at 3 pillars, by n_side, 8: 0.612 "
         "[0.55, 0.7], 12: > 0.9 (not reached).")
+
+
+def test_small_numbers_and_the_other_kinds_of_the_large_brush_row():
+    """Three significant digits in lower-case exponent notation where numbers are small, and
+    the large-brush row's sigma~_0 (a bracket) and sigma~_inf (not reached)."""
+    s = _loss(k=1e-6)
+    s.few[0].sigma, s.few[0].ci = 2.3456e-6, (1.1e-6, 3.3e-6)
+    s.few[1].bracket = (0.91234, INF)
+    s.area[0].bracket = (0.0, 1.23456e-5)
+    s.area[1].sigma, s.area[1].ci = 5.4321e-6, (4e-6, 6e-6)
+    s.extrapolations[0] = sl.Extrapolation(0.2, (8, 12, 16), 4.5678e-6, (1e-6, 8e-6), 2.5678e-5,
+                                           1.2345e-7, 1, sl.HOLDS)
+    s.p, s.p_ci = 1.2345e-5, (1e-5, 2e-5)
+    s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci = sl.NO_LOSS, NAN, (NAN, NAN)
+    s.sigma_inf_bracket = (0.98765, INF)
+    s.sigma_zero_kind, s.sigma_zero, s.sigma_zero_ci = sl.BRACKET, 0.61234, (0.55, 0.7)
+    t = slp.table(NS(size_loss={1e-6: s}))
+    kp8 = sl.pillar_k(1e-6, 8, PHI)
+    assert t.page_rows[1][:5] == ["1e-06", "8", format(kp8, ".3g"), "2.35e-06 [1.1e-06, 3.3e-06]",
+                                  format(sl.pillar_sigma(2.3456e-6, 8, PHI), ".3g")]
+    assert "e-05" in t.page_rows[1][2] and "e-06" in t.page_rows[1][4]
+    assert t.page_rows[1][5] == "< 1.23e-05 (below every σ̃ run)"
+    assert t.page_rows[2][3] == "> 0.912 (not reached)"
+    assert t.page_rows[2][6] == format(sl.pillar_sigma(5.4321e-6, 12, PHI), ".3g")
+    assert "e-05" in t.page_rows[2][6]
+    assert t.page_rows[3][5] == "> 0.988 (not reached)"
+    assert t.page_rows[3][7] == (
+        "P∞ = 0 at σ̃ = 0.612 [0.55, 0.7]; per-area crossing over the two largest sizes: "
+        "steady; p = 1.23e-05 [1e-05, 2e-05] (consistent with 3/4)")
+    rinf = dict(zip(HEAD, t.csv_rows[-1]))
+    assert (rinf["sigma_zero"], rinf["sigma_zero_lo"], rinf["sigma_zero_hi"]) == ("0.61234",
+                                                                                  "0.55", "0.7")
+    assert rinf["zero_kind"] == sl.BRACKET and rinf["sigma_area"] == ""
+    assert rinf["area_kind"] == sl.NO_LOSS
+    e = slp.extrapolation_table(NS(size_loss={1e-6: s})).page_rows[1]
+    assert e == ["1e-06", "0.2", "8, 12, 16", "4.57e-06 [1e-06, 8e-06]", "2.57e-05",
+                 "1.2e-07 (1)", "holds"]
