@@ -60,7 +60,8 @@ def _data(studies, **kw):
 
 
 def test_what_the_measured_sigma_c_is_of():
-    d = _data({1.0: _study(groups=[_group(0.5, n_seeds=3), _group(0.7, n_seeds=10)])})
+    d = _data({1.0: _study(groups=[_group(0.5, n_seeds=3), _group(0.7, n_seeds=10)]),
+               0.1: _study(groups=[_group(0.5, n_seeds=5), _group(0.7, n_seeds=3)])})
     assert hl.of_what(d) == "324 pillars (18 × 18), φ = 0.16, preset fast, 3–10 seeds per (k̃, σ̃)"
     d = _data({1.0: _study(groups=[_group(0.5, n_seeds=1)])}, brush=(None, NAN, ""), preset="",
               seeds_auto={"start": 3}, n_sides=[8, 12], n_side=12,
@@ -105,6 +106,12 @@ def test_the_law_line_of_one_state():
     assert hl.headline(d)[2] == (
         "c = α/σ̃ − β (2 k̃): fitted within the seed scatter for k̃ = 1, 0.5. Its zero α/β is an "
         "extrapolation of that line, given beside the measurement in the α/β table.")
+    d = _data({1.0: _study(LawState.POOR, Relation.NONE, chi2=3.0),
+               0.5: _study(LawState.POOR, Relation.NONE, chi2=4.5)})
+    assert hl.headline(d)[2] == (
+        "c = α/σ̃ − β (2 k̃): a **poor fit** (for orientation only) for k̃ = 1 (χ²/dof 3), 0.5 "
+        "(χ²/dof 4.5). Its zero α/β is an extrapolation of that line, given beside the "
+        "measurement in the α/β table.")
     d = _data({1.0: _study(LawState.UNDEFINED, Relation.ABOVE)})
     assert hl.headline(d)[2] == (
         "c = α/σ̃ − β (1 k̃): undefined for k̃ = 1. Its zero α/β is an extrapolation of that "
@@ -134,10 +141,14 @@ def test_the_cautions_and_the_four_line_limit(monkeypatch):
         "group beside the loss is not certainly lost or holding with its seeds (its interval is "
         "widened to hold it).")
     # a fifth line (the loss across sizes) joins the last two into the fourth
-    monkeypatch.setattr(hl, "size_loss_line", lambda s: "SIZES.")
+    monkeypatch.setattr(hl, "size_loss_line", lambda s: f"SIZES {sorted(s)}.")
     lines = hl.headline(_data(studies, n_failed=1, size_loss={1.0: "x"}))
     plain = hl.headline(_data(studies, n_failed=1))
-    assert len(lines) == 4 and lines[:2] == plain[:2] and lines[2] == "SIZES."
+    assert len(lines) == 4 and lines[:2] == plain[:2] and lines[2] == "SIZES [1.0]."
+    # a data object without the field: no line
+    bare = _data(studies, n_failed=1)
+    del bare.size_loss
+    assert hl.headline(bare) == plain
     assert lines[3] == plain[2] + " " + plain[3]
     assert hl.MAX_LINES == 4
 
@@ -200,6 +211,8 @@ def test_the_notes():
 def test_the_seeds_line():
     auto = {"start": 3, "max": 10, "width": 0.2}
     assert hl.seeds_line(None, []) == "" and hl.seeds_line({}, [1]) == ""
+    assert "target: intervals 60 % wide" in hl.seeds_line({"start": 3, "max": 10, "width": 0.6},
+                                                          [])
     assert hl.seeds_line(auto, []) == (
         "seeds: auto (from 3, at most 10 per (k̃, σ̃), target: intervals 20 % wide): no (k̃, σ̃) "
         "stopped at the maximum short of the target.")
@@ -218,9 +231,9 @@ def _row(n, rel, verdict):
 def test_the_size_line_and_its_note():
     rows = [_row(8, 0.1234, WITHIN), _row(8, -0.05, DIFFERS), _row(8, 0.02, UNKNOWN),
             _row(12, NAN, UNKNOWN), _row(16, 0.0, WITHIN), _row(18, 0.0, WITHIN)]
-    d = _data({}, n_sides=[8, 12, 16, 18], n_side=16, size=rows)
+    d = _data({}, n_sides=[8, 10, 12, 16, 18], n_side=16, size=rows)     # no row at 10
     assert hl.size_line(d) == (
-        "Finite size: n_side = 8, 12, 16, 18; the other tables and figures read n_side = 16 (the "
+        "Finite size: n_side = 8, 10, 12, 16, 18; the other tables and figures read n_side = 16 (the "
         "largest with done jobs). Plateau against n_side = 18: n_side = 8: -5.0 … +12.3 % "
         "(within the seed scatter in 1 of 2 (k̃, σ̃)); n_side = 12: no relative change (no "
         "plateau at 18); n_side = 16: +0.0 … +0.0 % (within the seed scatter in 1 of 1 (k̃, "
@@ -235,3 +248,13 @@ def test_the_size_line_and_its_note():
         "against n_side = 18: no smaller n_side with a plateau yet.")
     d = _data({1.0: _study()}, n_sides=[8, 18], n_side=18, size=[_row(8, 0.02, UNKNOWN)])
     assert hl.notes(d)[-2] == hl.size_line(d)
+
+
+def test_the_notes_of_two_undefined_laws():
+    st = {k: _study(LawState.UNDEFINED, Relation.NONE, groups=[_group(0.5)],
+                    reason=LawReason.CHI2, chi2=c) for k, c in ((0.1, 2.0), (0.01, 3.0))}
+    assert hl.notes(_data(st))[1] == (
+        "α and β undefined: k̃ = 0.1: chi^2/dof = 2: c = alpha/sigma~ - beta does not describe c "
+        "within the seed scatter; alpha and beta for orientation only; k̃ = 0.01: chi^2/dof = 3: "
+        "c = alpha/sigma~ - beta does not describe c within the seed scatter; alpha and beta for "
+        "orientation only.")
