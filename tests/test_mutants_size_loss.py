@@ -350,7 +350,7 @@ def test_an_extrapolation_needs_three_sizes_and_the_exponent_two_held_sigmas():
     s = sl.size_loss(1.0, by_n, st.PHI, n_boot=0)
     assert [e.sigma_tilde for e in s.extrapolations] == [0.2, 0.5, 0.7]
     assert math.isnan(s.plateau[12][1]) and s.states[12][1] == ""
-    assert s.p_sigmas == (0.2, 0.5)
+    assert s.p_sigmas == (0.2, 0.5) and math.isfinite(s.p)        # two sigma~: one dof
 
 
 def test_no_loss_and_lost_everywhere():
