@@ -135,7 +135,7 @@ def test_small_numbers_and_the_other_kinds_of_the_large_brush_row():
                                            1.2345e-7, 1, sl.HOLDS)
     s.p, s.p_ci = 1.2345e-5, (1e-5, 2e-5)
     s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci = sl.NO_LOSS, NAN, (NAN, NAN)
-    s.sigma_inf_bracket = (0.98765, INF)
+    s.sigma_inf_bracket = (1.23456e-5, INF)
     s.sigma_zero_kind, s.sigma_zero, s.sigma_zero_ci = sl.BRACKET, 0.61234, (0.55, 0.7)
     t = slp.table(NS(size_loss={1e-6: s}))
     kp8 = sl.pillar_k(1e-6, 8, PHI)
@@ -146,7 +146,7 @@ def test_small_numbers_and_the_other_kinds_of_the_large_brush_row():
     assert t.page_rows[2][3] == "> 0.912 (not reached)"
     assert t.page_rows[2][6] == format(sl.pillar_sigma(5.4321e-6, 12, PHI), ".3g")
     assert "e-05" in t.page_rows[2][6]
-    assert t.page_rows[3][5] == "> 0.988 (not reached)"
+    assert t.page_rows[3][5] == "> 1.23e-05 (not reached)"
     assert t.page_rows[3][7] == (
         "P∞ = 0 at σ̃ = 0.612 [0.55, 0.7]; per-area crossing over the two largest sizes: "
         "steady; p = 1.23e-05 [1e-05, 2e-05] (consistent with 3/4)")
