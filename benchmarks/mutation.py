@@ -2,7 +2,9 @@
 module against a list of fast, targeted test files, and the score table.
 
     python benchmarks/mutation.py                       # the issue-34 scope (SCOPE below)
-    python benchmarks/mutation.py --only precision      # the SCOPE entries whose module matches
+    python benchmarks/mutation.py --only precision      # the SCOPE entries whose module path
+                                                        # holds this text (laws/verdict: that
+                                                        # module; verdict: also verdict_text)
     python benchmarks/mutation.py --modules fibril_hpc/campaign/laws/size.py \
         --tests tests/test_campaign_size.py              # any module list against any test list
     python benchmarks/mutation.py --table               # the table of the last run, no rerun
@@ -44,6 +46,16 @@ SCOPE = {
     "fibril_hpc/campaign/plan/search.py": ["tests/test_mutants_search.py"],
     "fibril_hpc/campaign/laws/precision.py": ["tests/test_mutants_precision.py"],
     "fibril_hpc/campaign/laws/reading.py": ["tests/test_mutants_reading.py"],
+    "fibril_hpc/campaign/laws/alphabeta.py": ["tests/test_mutants_alphabeta.py",
+                                              "tests/test_report_verdict.py"],
+    "fibril_hpc/campaign/laws/verdict.py": ["tests/test_mutants_verdict.py",
+                                            "tests/test_report_verdict.py"],
+    "fibril_hpc/campaign/laws/size_loss.py": ["tests/test_mutants_size_loss.py"],
+    "fibril_hpc/campaign/analysis/verdict_text.py": ["tests/test_mutants_verdict_text.py"],
+    "fibril_hpc/campaign/analysis/zero_cell.py": ["tests/test_mutants_verdict_text.py"],
+    "fibril_hpc/campaign/analysis/loss_page.py": ["tests/test_mutants_verdict_text.py"],
+    "fibril_hpc/campaign/analysis/size_loss_page.py": ["tests/test_mutants_size_loss_page.py"],
+    "fibril_hpc/campaign/analysis/headline.py": ["tests/test_mutants_headline.py"],
 }
 
 #: mutmut's exit-code meaning (mutmut.stats.status_by_exit_code), grouped for the table

@@ -149,9 +149,19 @@ def test_bad_sigma_settings_that_are_not_settings():
     ({"width": 10.5}, "seeds.auto.width: got 10.5; allowed: a number in [0.001, 10]"),
     ({"widht": 1}, "seeds.auto.widht: got 1; allowed: a setting (did you mean 'width'?): start, "
      "max, width, first"),
+    ({"first": -1}, "seeds.auto.first: got -1; allowed: an integer in [0, 1e+09]"),
+    ({"first": 2.5}, "seeds.auto.first: got 2.5; allowed: an integer in [0, 1e+09]"),
 ])
 def test_a_bad_seeds_setting_is_one_line_naming_it(cfg, msg):
     assert _err(search.parse_seeds, {"auto": cfg}) == msg
+
+
+def test_a_first_seed_sets_the_labels_of_every_group():
+    """seeds.auto.first: a group's seeds are first, first + 1, ... (disjoint seed sets)."""
+    auto = search.parse_seeds({"auto": {"start": 3, "first": 10}})
+    assert auto.first == 10 and auto.seeds(3) == [10, 11, 12] and auto.seeds(0) == []
+    plain = search.parse_seeds({"auto": {"start": 3}})
+    assert plain.first == 0 and plain.seeds(2) == [0, 1]
 
 
 def test_seeds_that_are_not_auto_are_none_and_auto_words():

@@ -58,7 +58,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .intervals import expanded, percentile_interval
+from .intervals import expanded, percentile_interval, replicate_sd
 from .reading import FEW_PILLARS, RESOLVED, UNRESOLVED, pillar_floor, read_group
 
 NAN2 = (math.nan, math.nan)
@@ -331,7 +331,7 @@ def _extrapolate(out: SizeLoss, reps: dict, n_boot: int) -> None:
     x = N ** (-P_FEW)
     n_min = min(out.n_seeds[n] for n in sizes)
     have_reps = all(reps[n] is not None for n in sizes)
-    sd = {n: np.array([np.nanstd(reps[n][:, i], ddof=1) if reps[n] is not None else math.nan
+    sd = {n: np.array([replicate_sd(reps[n][:, i]) if reps[n] is not None else math.nan
                        for i in range(len(out.sigmas))]) for n in sizes}
     rows = []                 # (i, weights) of the sigma~ run at every size
     for i, s in enumerate(out.sigmas):
@@ -344,7 +344,8 @@ def _extrapolate(out: SizeLoss, reps: dict, n_boot: int) -> None:
         if have_reps:
             r = [fit_line(x, [reps[n][j, i] for n in sizes], w)[0] for j in range(n_boot)]
             e.p_inf_ci = expanded(a, percentile_interval(r), n_min)
-            e.state = HOLDS if e.p_inf_ci[0] > 0 else GONE
+            lo = e.p_inf_ci[0]              # NaN (fewer than two replicates): no interval
+            e.state = HOLDS if lo > 0 else GONE if lo <= 0 else UNKNOWN
         out.extrapolations.append(e)
         rows.append((i, w))
     ss = [e.sigma_tilde for e in out.extrapolations]

@@ -104,10 +104,10 @@ class Verdict:
 
 def consistent_with_zero(value: float, ci: tuple) -> bool:
     """The value is at or below 0, or its interval reaches 0 (an undefined interval says
-    nothing: only the value is judged)."""
+    nothing: only the value is judged; a lower end at -inf reaches 0)."""
     if not math.isfinite(value) or value <= 0:
         return True
-    return math.isfinite(ci[0]) and ci[0] <= 0
+    return bool(ci[0] <= 0)          # False for a NaN end
 
 
 def law_state(ab: ABFit, alpha_ci: tuple) -> tuple:
