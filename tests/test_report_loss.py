@@ -51,15 +51,15 @@ def test_the_measured_loss_lies_in_its_bracket_and_its_interval_holds_the_truth(
         assert (lo, hi) == (DENSE[4], DENSE[5])
         a, b = st.sigma_loss_ci
         assert lo <= st.sigma_loss <= hi and a <= st.sigma_loss <= b
-        # the span holds the bracket and where another seed set would measure (the interval
-        # widened by sqrt(2) in log sigma~), and leaves them only where a group's state is not
-        # certain with its seeds, which the page says
+        # the span holds the bracket and leaves it only where a group's state is not certain
+        # with its seeds, which the page says; another seed set's interval is the seed
+        # interval widened by sqrt(2) in log sigma~
         s_lo, s_hi = st.loss.span
         A, B = st.loss.another
         assert A == pytest.approx(st.sigma_loss * (a / st.sigma_loss) ** math.sqrt(2))
         assert B == pytest.approx(st.sigma_loss * (b / st.sigma_loss) ** math.sqrt(2))
-        assert s_lo <= min(A, lo) and max(B, hi) <= s_hi
-        assert (s_lo, s_hi) == (min(lo, A), max(hi, B)) or st.loss.uncertain
+        assert s_lo <= lo and hi <= s_hi
+        assert (s_lo, s_hi) == (lo, hi) or st.loss.uncertain
         assert not st.loss.uncertain or "is not certain" in verdict_text.loss_note(st)
         assert st.sigma_loss == pytest.approx(1.0, rel=0.03)
         held += st.sigma_loss_ci[0] <= 1.0 <= st.sigma_loss_ci[1]
@@ -91,7 +91,8 @@ def test_an_uncertain_lost_group_widens_the_interval_beyond_the_bracket():
     thr = LOSS
     rng = np.random.default_rng(0)
     reps = np.vstack([thr * 2.0 * np.ones(200), thr * np.exp(0.5 * rng.standard_normal(200))])
-    m = loss.measure([1.0, 1.1], [RESOLVED, LOST], [thr * 2.0, thr * 0.9], thr, reps, (5, 5))
+    m = loss.measure([1.0, 1.1], [RESOLVED, LOST], [thr * 2.0, thr * 0.9], thr, reps, (5, 5),
+                     plateau_cis=[(1.9 * thr, 2.1 * thr), (0.4 * thr, 2.5 * thr)])
     assert 1.0 <= m.sigma <= 1.1 and m.ci[1] > 1.1 and m.span[1] >= m.ci[1]
     sure = np.vstack([thr * 2.0 * np.ones(200), thr * 0.5 * np.ones(200)])
     m = loss.measure([1.0, 1.1], [RESOLVED, LOST], [thr * 2.0, thr * 0.5], thr, sure, (5, 5))
@@ -226,19 +227,32 @@ def test_another_seed_set_widens_the_interval_by_sqrt2_in_log_sigma():
     assert lo == 1.0 and hi == pytest.approx(1.5 ** math.sqrt(2))
 
 
-def test_the_span_holds_where_another_seed_set_would_measure():
-    # two certain groups around the loss, replicates that scatter the crossing: the span is the
-    # bracket widened to the interval another seed set would measure in, not to the seed CI
+def test_certain_states_bound_the_span_and_another_seed_set_reaches_where_none_is():
+    # replicates that scatter the crossing beyond the bracket
     rng = np.random.default_rng(0)
     reps = np.vstack([LOSS * 1.3 * np.exp(0.15 * rng.standard_normal(400)),
                       LOSS * 0.8 * np.exp(0.15 * rng.standard_normal(400))])
+    certain = [(1.2 * LOSS, 1.4 * LOSS), (0.7 * LOSS, 0.9 * LOSS)]
     m = loss.measure([1.0, 1.2], [RESOLVED, LOST], [1.3 * LOSS, 0.8 * LOSS], LOSS, reps,
-                     n_seeds=(10, 10), plateau_cis=[(1.2 * LOSS, 1.4 * LOSS),
-                                                    (0.7 * LOSS, 0.9 * LOSS)])
+                     n_seeds=(10, 10), plateau_cis=certain)
     assert m.ci[0] < m.sigma < m.ci[1]
     assert m.another == pytest.approx(loss.another_set(m.sigma, m.ci))
     assert m.another[0] < m.ci[0] and m.another[1] > m.ci[1]
-    assert m.span == pytest.approx((min(1.0, m.another[0]), max(1.2, m.another[1])))
+    assert m.another[0] < 1.0 and m.another[1] > 1.2
+    # both groups certain of their state: the loss lies between them, whatever the interval
+    assert m.span == (1.0, 1.2)
+    # neither certain, and no other group: the span is where another seed set would measure
+    m = loss.measure([1.0, 1.2], [RESOLVED, LOST], [1.3 * LOSS, 0.8 * LOSS], LOSS, reps,
+                     n_seeds=(10, 10), plateau_cis=[(0.9 * LOSS, 1.6 * LOSS),
+                                                    (0.5 * LOSS, 1.1 * LOSS)])
+    assert m.span == pytest.approx(m.another)
+    # a certain group further out bounds it on its side
+    m = loss.measure([0.8, 1.0, 1.2, 1.5], [RESOLVED, RESOLVED, LOST, LOST],
+                     [2 * LOSS, 1.3 * LOSS, 0.8 * LOSS, 0.5 * LOSS], LOSS,
+                     np.vstack([reps[0] * 1.5, reps, reps[1] * 0.6]), n_seeds=(10,) * 4,
+                     plateau_cis=[(1.5 * LOSS, 2.5 * LOSS), (0.9 * LOSS, 1.6 * LOSS),
+                                  (0.5 * LOSS, 1.1 * LOSS), (0.4 * LOSS, 0.6 * LOSS)])
+    assert m.span == (0.8, 1.5)
 
 
 def test_each_seeds_own_crossing_is_said_as_bounds_never_0_or_inf():

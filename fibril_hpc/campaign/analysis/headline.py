@@ -2,9 +2,9 @@
 
 **The headline** (:func:`headline`, at most :data:`MAX_LINES` lines) answers one question per
 k~: where this brush loses adhesion. One number and one interval per k~ (the measured sigma~_c,
-model-free, and its span: the sigma~ run around it widened to where another seed set of as many
-seeds would measure it (:attr:`..laws.loss.Loss.another`) and to the groups beside it whose
-state is not certain with their seeds, the interval alpha/beta's
+model-free, and its span: the sigma~ run around it widened to the groups beside it whose state
+is not certain with their seeds, and on a side with no certain group to where another seed set
+of as many seeds would measure it (:attr:`..laws.loss.Loss.another`), the interval alpha/beta's
 zero is set against, as the alpha/beta table's first column gives them:
 :func:`.loss_page.measured_span`) and what it is of: the
 brush (N pillars, phi), the preset and the seeds. Then one line on the law c = alpha/sigma~ -
@@ -137,8 +137,9 @@ def headline(d) -> list:
     smax = search_max(d.meta)
     lines = [f"Where this brush loses adhesion, σ̃_c per k̃ (model-free: the σ̃ where the "
              f"seed-mean plateau falls to {FEW_PILLARS:g} pillars' pull-off; lost in: the σ̃ "
-             f"run around it, widened to where another seed set as large would measure it (95 %) "
-             f"and to any σ̃ beside it whose state its seeds leave uncertain), of {of_what(d)}:",
+             f"run around it, widened to any σ̃ beside it whose state its seeds leave uncertain, "
+             f"and where none is certain to where another seed set as large would measure it), "
+             f"of {of_what(d)}:",
              "; ".join(_loss_value(k, st, smax) for k, st in d.studies.items()) + ".",
              _law_line(d)]
     if getattr(d, "size_loss", None):

@@ -14,9 +14,9 @@ from .verdict_text import fmt_ci
 def measured_span(st) -> tuple:
     """The honest interval of one k~'s measured sigma~_c, the one :mod:`..laws.verdict` sets
     alpha/beta's zero against (:attr:`..laws.loss.Loss.span`): its bracket (lo, hi], widened to
-    the groups beside the loss whose state is not certain with their seeds and to where another
-    seed set of as many seeds would measure it (an infinite end stays infinite); the bracket
-    where no span was made."""
+    the groups beside the loss whose state is not certain with their seeds, and on a side with
+    no certain group to where another seed set of as many seeds would measure it (an infinite
+    end stays infinite); the bracket where no span was made."""
     span = tuple(st.loss.span)
     return tuple(st.loss_bracket) if any(math.isnan(x) for x in span) else span
 

@@ -26,11 +26,11 @@ measures both rates on brushes of whole pillars through the real search).
 
 **States that are not certain.** A group's state is *not certain* with its seeds when its
 plateau's seed interval holds the threshold. The *span* of the measurement is the bracket
-widened down to the largest sigma~ below it whose group holds adhesion for certain (0 when none)
-and up to the smallest sigma~ from hi on that is lost for certain (inf when none), and to the
-interval another seed set would measure in; an interval end that is infinite makes the span
-infinite on that side (the least certain case, never the bracket). :mod:`.verdict` compares
-alpha/beta's zero with the span.
+widened down to the largest sigma~ below it whose group holds adhesion for certain and up to the
+smallest sigma~ from hi on that is lost for certain: a group certain of its state bounds where
+the loss can be. On a side with no certain group the span reaches the interval another seed set
+would measure in (and 0 or inf where that has no end): the least certain case, never the
+bracket. :mod:`.verdict` compares alpha/beta's zero with the span.
 
 **Each seed's own crossing** (:attr:`Loss.per_seed`, set by the study): for every seed in both
 bracketing groups, the crossing of its own two plateaus (unclipped): how far one brush's loss
@@ -180,8 +180,10 @@ def measure(sigmas, states, plateaus, thr: float, reps=None, n_seeds=(),
     out.another = another_set(s, out.ci)
     s_lo, s_hi = _span(sigmas, states, plateau_cis, thr, i, j)
     c_lo, c_hi = out.another
-    out.span = (min(s_lo, c_lo) if not math.isnan(c_lo) else s_lo,
-                max(s_hi, c_hi) if not math.isnan(c_hi) else s_hi)
+    # a sigma~ whose state is certain bounds the span; where no group is certain on a side
+    # (0 or inf there), the interval another seed set would measure in does
+    out.span = (min(lo, c_lo) if s_lo <= 0 and not math.isnan(c_lo) else s_lo,
+                max(hi, c_hi) if s_hi == math.inf and not math.isnan(c_hi) else s_hi)
     out.again = tuple(float(x) for x, st in zip(sigmas[j + 1:], states[j + 1:])
                       if st in (RESOLVED, UNRESOLVED))
     return out

@@ -194,10 +194,10 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
             r = read_group(*_resample(pts[s], picked[i] if uneven else picked), half=half,
                            floor=floor)
             out += [r.plateau, r.c, r.c0]
-        if match is not None:       # the bracket's larger group read on the other's labels
-            ref, other = match
-            out.append(read_group(*_resample(pts[sigmas[ref]], picked[other]), half=half,
-                                  floor=floor).plateau)
+        if match is not None:       # the bracket's larger group read on each other's labels
+            ref, others = match
+            out += [read_group(*_resample(pts[sigmas[ref]], picked[o]), half=half,
+                               floor=floor).plateau for o in others]
         return np.array(out)
 
     # groups with different seed sets (seeds: auto): the drawn labels each holds, paired
@@ -220,11 +220,11 @@ def study_k(k_tilde: float, points: dict, n_boot: int = N_BOOT, rng_seed: int = 
                 min_seeds=min(map(len, sets)) if sets else 0,
                 n_resamples=0 if reps is None else reps.shape[1])
     on_other = None
-    if match is not None:           # the full data's: the larger group on the other's seeds
-        on_other = read_group(*_resample(pts[sigmas[match[0]]], sets[match[1]]), half=half,
-                              floor=floor).plateau
+    if match is not None:           # the full data's: the larger group on each other's seeds
+        on_other = [read_group(*_resample(pts[sigmas[match[0]]], sets[o]), half=half,
+                               floor=floor).plateau for o in match[1]]
     _measure_loss(st, None if reps is None else reps[0:3 * n:3], floor, match, on_other,
-                  None if reps is None or match is None else reps[3 * n])
+                  None if reps is None or match is None else reps[3 * n:])
     _per_seed(st, pts, half, floor)
     if not ab.ok:
         return judge(st)
@@ -266,20 +266,20 @@ def _spread(ci: tuple, scatter: bool) -> tuple:
 
 
 def _matched_pair(groups, sets):
-    """(larger, other): the indices of the loss bracket's two groups where their seed sets
+    """(larger, (other,)): the indices of the loss bracket's two groups where their seed sets
     differ and one holds the other's (``seeds: auto`` runs seeds first .. first + n - 1, so its
-    sets are nested); None where they are equal, not nested, or there is no bracket."""
+    sets are nested); None where they are equal, not nested, or there is no bracket. Only the
+    bracket is carried: a brush's strength measured there says nothing of sigma~ far from it
+    (at the floor every brush holds one pillar)."""
     pair = _loss.bracket_indices([g.sigma_tilde for g in groups],
                                  [g.reading.state for g in groups])
     if pair is None:
         return None
     i, j = pair
     a, b = set(sets[i]), set(sets[j])
-    if a == b:
-        return None
     if b < a:
-        return i, j
-    return (j, i) if a < b else None
+        return i, (j,)
+    return (j, (i,)) if a < b else None
 
 
 def _matched(other, larger, larger_on_other):
@@ -292,31 +292,39 @@ def _matched(other, larger, larger_on_other):
     return np.where(np.isfinite(ratio) & (ratio > 0), out, np.nan)
 
 
-def _measure_loss(st: KStudy, plateau_reps, floor: float, match=None, on_other=math.nan,
+def _measure_loss(st: KStudy, plateau_reps, floor: float, match=None, on_other=None,
                   on_other_reps=None) -> None:
     """Set the measured loss of ``st`` (:func:`.loss.measure`) from its groups and the bootstrap
     replicates of their plateaus (one row per group, or None).
 
-    **Seeds matched across the bracket.** Where the bracket's two groups ran different seeds
-    (``seeds: auto`` gives more to one of them; ``match`` = (larger, other)), their two seed
-    means are means over different brushes, and the crossing between them would mix the sigma~
-    step with which brushes each holds. The other group's plateau is carried to the larger
-    group's seeds (:func:`_matched`, with ``on_other``: the larger group read on the other's
-    seeds; in every replicate likewise, ``on_other_reps``), so both ends of the crossing are
-    means over the same brushes."""
+    **The same brushes at both ends of the bracket.** Where ``seeds: auto`` ran fewer seeds at
+    one of the bracket's two groups (it stops adding seeds to a group whose state looks
+    certain), their seed means are means over different brushes, and a crossing between them,
+    or the smaller group's certainty, would mix the sigma~ step with which brushes each holds.
+    The smaller group's plateau is carried to the larger group's seeds (``match`` = (larger,
+    (other,)); :func:`_matched`, with ``on_other``: the larger group read on the other's seeds;
+    in every replicate likewise, ``on_other_reps``), and its interval (for its state's
+    certainty) comes from the carried replicates. The groups' own numbers (the plateau table)
+    are unchanged."""
     gs = st.groups
     plateaus = [g.reading.plateau for g in gs]
+    cis = [g.plateau_ci for g in gs]
     if match is not None:
-        ref, other = match
-        plateaus[other] = float(_matched(plateaus[other], plateaus[ref], on_other))
-        if plateau_reps is not None and on_other_reps is not None:
+        ref, others = match
+        if plateau_reps is not None:
             plateau_reps = np.array(plateau_reps, dtype=float)
-            plateau_reps[other] = _matched(plateau_reps[other], plateau_reps[ref], on_other_reps)
+        for k, o in enumerate(others):
+            plateaus[o] = float(_matched(plateaus[o], plateaus[ref], on_other[k]))
+            if plateau_reps is not None and on_other_reps is not None:
+                plateau_reps[o] = _matched(plateau_reps[o], plateau_reps[ref], on_other_reps[k])
+                cis[o] = _nonneg(expanded(plateaus[o], percentile_interval(plateau_reps[o]),
+                                          gs[o].n_seeds))
     st.loss = _loss.measure([g.sigma_tilde for g in gs], [g.reading.state for g in gs],
                             plateaus, FEW_PILLARS * floor, plateau_reps,
-                            [g.n_seeds for g in gs], [g.plateau_ci for g in gs])
-    if match is not None:
-        st.loss.matched = (gs[match[0]].n_seeds, gs[match[1]].n_seeds)
+                            [g.n_seeds for g in gs], cis)
+    pair = _loss.bracket_indices([g.sigma_tilde for g in gs], [g.reading.state for g in gs])
+    if match is not None and pair is not None and set(pair) & set(match[1]):
+        st.loss.matched = (gs[match[0]].n_seeds, min(gs[k].n_seeds for k in pair))
     ci = st.loss.ci
     # no zero-width interval where the two plateaus scatter
     pair = _loss.bracket_indices([g.sigma_tilde for g in gs], [g.reading.state for g in gs])
