@@ -138,6 +138,92 @@ def test_two_sizes_give_crossings_but_no_extrapolation():
     assert s.sigma_inf_kind == sl.NOT_READ and s.p_state == sl.NOT_FITTED
 
 
+FAR = (8, 16, 32, 64)
+FAR_SIGMAS = (0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.7, 0.85, 1.0)
+
+
+@pytest.mark.parametrize("pillar_ref, q_true, state", [
+    (None, 0.0, sl.FIXED_SIGMA), (16, sl.Q_PILLAR, sl.FIXED_PILLAR)])
+def test_the_drift_tells_a_fixed_sigma_from_a_fixed_pillar_roughness(pillar_ref, q_true, state):
+    """Sizes a factor 64 apart and a small finite-size term (0.2 pillars): a loss per area at
+    a fixed sigma~ has a per-area crossing that stays put (q = 0); one at a fixed sigma / d_c1
+    moves as N^(-1/4)."""
+    for r in range(2):
+        s = sl.size_loss(1.0, st.brushes(FAR, sigmas=FAR_SIGMAS, pillars=0.2,
+                                         pillar_ref=pillar_ref, rng=r), st.PHI, n_boot=40,
+                         rng_seed=r)
+        d = s.area_drift
+        assert d.n_sides == FAR and d.state == state, (d.q, d.q_ci)
+        assert abs(d.q - q_true) < 0.02 and d.q_ci[0] < d.q < d.q_ci[1]
+
+
+def _true_drift(threshold_of_n, sizes=SIZES, pillars=2.5):
+    """The least-squares d ln sigma~ / d ln N of the synthetic truth's crossings."""
+    x = np.log([n * n for n in sizes])
+    y = [math.log(st.sigma_at(threshold_of_n(n) - st.amplitude(pillars) * (n * n) ** -0.75))
+         for n in sizes]
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def test_the_crossings_drift_as_the_truth_does_over_8_to_16(draws):
+    """Loss per area at a fixed sigma~ plus 2.5 pillars' finite-size term: the per-area
+    crossing falls towards sigma~_inf (q < 0), the 3-pillar one rises towards sigma~_0
+    (q > 0); the measured q's intervals hold the truth's."""
+    from fibril_hpc.campaign.laws.reading import FEW_PILLARS, pillar_floor
+
+    q_area = _true_drift(lambda n: THR)
+    q_few = _true_drift(lambda n: FEW_PILLARS * pillar_floor(n, st.PHI))
+    assert q_area < -0.05 and q_few > 0.01
+    cover_area = cover_few = 0
+    for s in draws:
+        assert s.area_drift.q < 0 < s.few_drift.q
+        cover_area += s.area_drift.q_ci[0] <= q_area <= s.area_drift.q_ci[1]
+        cover_few += s.few_drift.q_ci[0] <= q_few <= s.few_drift.q_ci[1]
+    assert cover_area >= 3 and cover_few >= 3
+
+
+def _crossing(n, sigma, reps):
+    return sl.Crossing(n, 0.1, sl.BRACKET, sigma, (0.0, 1.0), (0.0, 1.0), 4,
+                       replicates=tuple(reps))
+
+
+def test_a_replicate_that_does_not_cross_leaves_the_drift_unbounded_on_its_side():
+    """A replicate without a crossing at the largest size (inf) is a drift of +inf; at the
+    smallest size (inf there) one of -inf; the value itself is the bracketed crossings'."""
+    rng = np.random.default_rng(0)
+    base = {8: 0.6, 12: 0.55, 16: 0.5}
+
+    def reps(n, inf_share):
+        r = base[n] * np.exp(0.03 * rng.standard_normal(200))
+        r[: int(inf_share * 200)] = math.inf
+        return r
+
+    up = sl.crossing_drift([_crossing(n, base[n], reps(n, 0.2 if n == 16 else 0))
+                            for n in SIZES])
+    down = sl.crossing_drift([_crossing(n, base[n], reps(n, 0.2 if n == 8 else 0))
+                              for n in SIZES])
+    q = float(np.polyfit(np.log([64, 144, 256]), np.log([0.6, 0.55, 0.5]), 1)[0])
+    assert up.q == pytest.approx(q) and down.q == pytest.approx(q)
+    assert up.q_ci[1] == math.inf and math.isfinite(up.q_ci[0])
+    assert down.q_ci[0] == -math.inf and math.isfinite(down.q_ci[1])
+    # one bracketed size, or none replicated: no drift measured
+    one = sl.crossing_drift([_crossing(8, 0.6, reps(8, 0)),
+                             sl.Crossing(16, 0.1, sl.NO_LOSS, math.nan)])
+    assert one.state == sl.NOT_MEASURED and math.isnan(one.q)
+    bare = sl.crossing_drift([sl.Crossing(n, 0.1, sl.BRACKET, base[n]) for n in SIZES])
+    assert bare.q == pytest.approx(q) and bare.state == sl.NOT_MEASURED
+
+
+@pytest.mark.parametrize("q, ci, state", [
+    (-0.02, (-0.1, 0.05), sl.FIXED_SIGMA), (-0.25, (-0.3, -0.2), sl.FIXED_PILLAR),
+    (-0.1, (-0.3, 0.1), sl.EITHER), (-0.1, (-0.2, -0.05), sl.NEITHER),
+    (0.3, (0.2, 0.4), sl.NEITHER), (-0.25, (-math.inf, -0.1), sl.FIXED_PILLAR),
+    (0.0, (-0.1, math.inf), sl.FIXED_SIGMA), (-0.25, (-0.25, 0.0), sl.EITHER),
+    (math.nan, (-0.1, 0.1), sl.NOT_MEASURED), (0.0, (math.nan, math.nan), sl.NOT_MEASURED)])
+def test_the_drift_state(q, ci, state):
+    assert sl.drift_state(q, ci) == state
+
+
 def test_curve_crossing_is_exact_on_a_power_law_and_bounded():
     sig = [0.2, 0.4, 0.8]
     p = [0.5 * (x / 0.2) ** -2 for x in sig]           # 0.5, 0.125, 0.03125
@@ -171,6 +257,11 @@ def test_the_page_says_what_the_numbers_say(draws, tmp_path):
     assert len(t.csv_rows) == 1 + len(SIZES) + 1 and all(len(r) == len(head) for r in t.csv_rows)
     inf_row = dict(zip(head, t.csv_rows[-1]))
     assert inf_row["n_side"] == "inf" and float(inf_row["sigma_area"]) == draws[0].sigma_inf
+    for name in ("few_drift", "area_drift"):
+        dr = getattr(draws[0], name)
+        assert float(inf_row[name]) == dr.q and inf_row[name + "_state"] == dr.state
+        assert (float(inf_row[name + "_lo"]), float(inf_row[name + "_hi"])) == dr.q_ci
+    assert f"{draws[0].area_drift.q:.2g}" in t.page_rows[-1][-1]
     row16 = dict(zip(head, t.csv_rows[3]))
     assert float(row16["pillar_sigma_few"]) == pytest.approx(
         draws[0].few[2].sigma * (st.PHI * 256) ** 0.25)
