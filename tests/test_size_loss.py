@@ -136,6 +136,19 @@ def test_two_sizes_give_crossings_but_no_extrapolation():
                      n_boot=20)
     assert len(s.few) == 2 and not s.extrapolations
     assert s.sigma_inf_kind == sl.NOT_READ and s.p_state == sl.NOT_FITTED
+    # two crossed sizes are enough for a drift (no degree of freedom, but a slope)
+    assert s.area_drift.n_sides == (8, 16) and s.area_drift.state != sl.NOT_MEASURED
+    q = math.log(s.area[1].sigma / s.area[0].sigma) / math.log(4.0)
+    assert s.area_drift.q == pytest.approx(q)
+
+
+def test_a_size_whose_few_pillar_threshold_reaches_the_area_one_is_left_out_of_its_drift():
+    """At 4 x 4 three pillars' pull-off (0.24) is above F~_A = 0.1: its per-area crossing is a
+    pillar count, so the per-area drift reads 8 and 16 only; the 3-pillar drift reads all."""
+    s = sl.size_loss(1.0, st.brushes((4, 8, 16), pillars=0.5, rng=4), st.PHI, n_boot=20)
+    assert s.area[0].below_floor and not s.area[1].below_floor
+    assert s.area_drift.n_sides == (8, 16)
+    assert s.few_drift.n_sides == tuple(c.n_side for c in s.few if c.kind == sl.BRACKET)
 
 
 FAR = (8, 16, 32, 64)
