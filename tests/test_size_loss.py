@@ -155,15 +155,16 @@ FAR = (8, 16, 32, 64)
 FAR_SIGMAS = (0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.7, 0.85, 1.0)
 
 
-@pytest.mark.parametrize("pillar_ref, q_true, state", [
-    (None, 0.0, sl.FIXED_SIGMA), (16, sl.Q_PILLAR, sl.FIXED_PILLAR)])
-def test_the_drift_tells_a_fixed_sigma_from_a_fixed_pillar_roughness(pillar_ref, q_true, state):
+@pytest.mark.parametrize("pillar_ref, q_true, state, sigmas", [
+    (None, 0.0, sl.FIXED_SIGMA, FAR_SIGMAS), (16, sl.Q_PILLAR, sl.FIXED_PILLAR, FAR_SIGMAS),
+    (16, sl.Q_SPRING, sl.FIXED_SPRING, tuple(np.geomspace(0.03, 2.5, 24).round(4)))])
+def test_the_drift_tells_the_three_limits_apart(pillar_ref, q_true, state, sigmas):
     """Sizes a factor 64 apart and a small finite-size term (0.2 pillars): a loss per area at
     a fixed sigma~ has a per-area crossing that stays put (q = 0); one at a fixed sigma / d_c1
-    moves as N^(-1/4)."""
+    moves as N^(-1/4), one at a fixed k sigma / F_c1 as N^(-3/4)."""
     for r in range(2):
-        s = sl.size_loss(1.0, st.brushes(FAR, sigmas=FAR_SIGMAS, pillars=0.2,
-                                         pillar_ref=pillar_ref, rng=r), st.PHI, n_boot=40,
+        s = sl.size_loss(1.0, st.brushes(FAR, sigmas=sigmas, pillars=0.2, pillar_ref=pillar_ref,
+                                         loss_drift=q_true, rng=r), st.PHI, n_boot=40,
                          rng_seed=r)
         d = s.area_drift
         assert d.n_sides == FAR and d.state == state, (d.q, d.q_ci)
@@ -229,9 +230,14 @@ def test_a_replicate_that_does_not_cross_leaves_the_drift_unbounded_on_its_side(
 
 @pytest.mark.parametrize("q, ci, state", [
     (-0.02, (-0.1, 0.05), sl.FIXED_SIGMA), (-0.25, (-0.3, -0.2), sl.FIXED_PILLAR),
-    (-0.1, (-0.3, 0.1), sl.EITHER), (-0.1, (-0.2, -0.05), sl.NEITHER),
-    (0.3, (0.2, 0.4), sl.NEITHER), (-0.25, (-math.inf, -0.1), sl.FIXED_PILLAR),
-    (0.0, (-0.1, math.inf), sl.FIXED_SIGMA), (-0.25, (-0.25, 0.0), sl.EITHER),
+    (-0.8, (-0.9, -0.7), sl.FIXED_SPRING), (-0.5, (-0.76, -0.4), sl.FIXED_SPRING),
+    (-0.1, (-0.3, 0.1), "fixed sigma~ or fixed sigma/d_c1"),
+    (-0.1, (-0.2, -0.05), sl.NEITHER), (-0.5, (-0.7, -0.3), sl.NEITHER),
+    (0.3, (0.2, 0.4), sl.NEITHER), (-1.2, (-2.0, -0.8), sl.NEITHER),
+    (-0.5, (-math.inf, -0.1), "fixed sigma/d_c1 or fixed k sigma/F_c1"),
+    (0.0, (-0.1, math.inf), sl.FIXED_SIGMA), (-0.25, (-0.25, 0.0),
+                                              "fixed sigma~ or fixed sigma/d_c1"),
+    (-0.3, (-1.0, 0.2), "fixed sigma~ or fixed sigma/d_c1 or fixed k sigma/F_c1"),
     (math.nan, (-0.1, 0.1), sl.NOT_MEASURED), (0.0, (math.nan, math.nan), sl.NOT_MEASURED)])
 def test_the_drift_state(q, ci, state):
     assert sl.drift_state(q, ci) == state
@@ -259,6 +265,9 @@ def test_pillar_variables_follow_from_the_scaling():
     assert sl.pillar_sigma(sigma_t, n, phi) == pytest.approx(sigma_t * brush.d_c / one.d_c)
     D = 2.0 * math.sqrt(phi / n ** 2 / math.pi)
     assert sl.pillar_k(k_t, n, phi) == pytest.approx(brush.k(k_t) / D)
+    # the spring force at the roughness over one pillar's own Kendall pull-off
+    assert sl.pillar_spring(sigma_t, k_t, n, phi) == pytest.approx(
+        brush.k(k_t) * sigma_t * brush.d_c / one.F_c)
 
 
 def test_the_page_says_what_the_numbers_say(draws, tmp_path):
@@ -278,6 +287,9 @@ def test_the_page_says_what_the_numbers_say(draws, tmp_path):
     row16 = dict(zip(head, t.csv_rows[3]))
     assert float(row16["pillar_sigma_few"]) == pytest.approx(
         draws[0].few[2].sigma * (st.PHI * 256) ** 0.25)
+    assert float(row16["spring_area"]) == pytest.approx(
+        sl.pillar_k(1.0, 16, st.PHI) * float(row16["pillar_sigma_area"]))
+    assert all(len(r) == len(t.page_rows[0]) for r in t.page_rows)
     e = size_loss_page.extrapolation_table(d)
     assert len(e.csv_rows) == 1 + len(draws[0].extrapolations)
     line = size_loss_page.headline_line(d.size_loss)

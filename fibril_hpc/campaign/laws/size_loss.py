@@ -29,13 +29,15 @@ largest sizes: STEADY when their intervals overlap, DRIFTS when they do not.
 least-squares slope of ln sigma~ against ln N over the sizes where that crossing is bracketed
 (at least two; for the per-area threshold, not ``below_floor``); its interval from the same
 replicates (each size's own, so a replicate's slope pairs independent draws; a replicate that
-does not cross at one size gives an infinite slope of the sign that size's weight has). Two
-limits are told apart: a loss at a fixed sigma~ of the paper's variables has q = 0, one at a
-fixed pillar-scale roughness sigma / d_c1 has q = ``Q_PILLAR`` = -1/4 (sigma / d_c1 = sigma~
-(phi N)^(1/4)). State FIXED_SIGMA when 0 lies in q's interval and -1/4 does not, FIXED_PILLAR
-the other way round, EITHER when both do, NEITHER when none does, NOT_MEASURED with fewer than
-two bracketed sizes or no interval. Over close sizes a crossing that converges from above to a
-fixed sigma~ still has q < 0: the state reads the sizes run, not the limit.
+does not cross at one size gives an infinite slope of the sign that size's weight has). Three
+limits are told apart (:data:`LIMITS`): a loss at a fixed sigma~ of the paper's variables has
+q = 0; one at a fixed pillar-scale roughness sigma / d_c1 = sigma~ (phi N)^(1/4) has
+q = -1/4; one at a fixed spring force at the roughness against one pillar's pull-off,
+k sigma / F_c1 = (k / (E* D)) (sigma / d_c1) (E* D d_c1 = F_c1 for a flat punch), which grows
+as k~ sigma~ N^(3/4), has q = -3/4. The state names every limit whose q lies in the interval
+(joined by " or "), NEITHER when none does, NOT_MEASURED with fewer than two bracketed sizes
+or no interval. Over close sizes a crossing that converges from above to a fixed sigma~ still
+has q < 0: the state reads the sizes run, not the limit.
 
 **Extrapolation in N** (per sigma~ run at every size of at least ``MIN_SIZES``): the weighted
 least-squares line P(N) = P_inf + A N^(-p) with p = 3/4 (a fixed number of pillars' pull-off
@@ -97,11 +99,13 @@ P_SPAN = 4.0
 P_BOUNDS = (0.05, 3.0)
 #: per-area crossing trend over the two largest sizes
 STEADY, DRIFTS = "steady", "drifts"
-#: d ln sigma~ / d ln N of a loss at a fixed pillar-scale roughness sigma / d_c1
-Q_PILLAR = -0.25
-#: drift states
-FIXED_SIGMA, FIXED_PILLAR, EITHER, NEITHER, NOT_MEASURED = (
-    "fixed sigma~", "fixed sigma/d_c1", "either", "neither", "not measured")
+#: d ln sigma~ / d ln N of a loss at a fixed pillar-scale roughness sigma / d_c1, and at a
+#: fixed spring force at the roughness over one pillar's pull-off, k sigma / F_c1
+Q_PILLAR, Q_SPRING = -0.25, -0.75
+#: drift states: the limits (q, name) a drift is compared with, and the other states
+FIXED_SIGMA, FIXED_PILLAR, FIXED_SPRING = "fixed sigma~", "fixed sigma/d_c1", "fixed k sigma/F_c1"
+LIMITS = ((0.0, FIXED_SIGMA), (Q_PILLAR, FIXED_PILLAR), (Q_SPRING, FIXED_SPRING))
+NEITHER, NOT_MEASURED = "none of the three", "not measured"
 
 
 def pillar_sigma(sigma_tilde: float, n_side: int, phi: float) -> float:
@@ -113,6 +117,12 @@ def pillar_k(k_tilde: float, n_side: int, phi: float) -> float:
     """One pillar's spring against its own contact stiffness: k / (E* D) = k~ L / D,
     D = L sqrt(4 phi / (pi N))."""
     return float(k_tilde) * math.sqrt(math.pi * n_side * n_side / (4.0 * float(phi)))
+
+
+def pillar_spring(sigma_tilde: float, k_tilde: float, n_side: int, phi: float) -> float:
+    """The spring force at the roughness over one pillar's pull-off: k sigma / F_c1 =
+    (k / (E* D)) (sigma / d_c1), since a flat punch's F_c1 = E* D d_c1."""
+    return pillar_k(k_tilde, n_side, phi) * pillar_sigma(sigma_tilde, n_side, phi)
 
 
 @dataclass
@@ -351,9 +361,8 @@ def drift_state(q: float, ci: tuple) -> str:
     lo, hi = ci
     if not (math.isfinite(q) and not math.isnan(lo) and not math.isnan(hi)):
         return NOT_MEASURED
-    fixed, pillar = lo <= 0.0 <= hi, lo <= Q_PILLAR <= hi
-    return {(True, True): EITHER, (True, False): FIXED_SIGMA, (False, True): FIXED_PILLAR,
-            (False, False): NEITHER}[(fixed, pillar)]
+    inside = [name for q_ref, name in LIMITS if lo <= q_ref <= hi]
+    return " or ".join(inside) if inside else NEITHER
 
 
 def crossing_drift(crossings) -> Drift:
@@ -470,7 +479,8 @@ def size_losses(by_n_k: dict, phi: float, n_boot: int = N_BOOT, rng_seed: int = 
 
 
 __all__ = ["SizeLoss", "Crossing", "Extrapolation", "Drift", "crossing_drift", "drift_state",
-           "Q_PILLAR", "FIXED_SIGMA", "FIXED_PILLAR", "EITHER", "NEITHER", "NOT_MEASURED",
+           "Q_PILLAR", "Q_SPRING", "LIMITS", "FIXED_SIGMA", "FIXED_PILLAR", "FIXED_SPRING",
+           "NEITHER", "NOT_MEASURED", "pillar_spring",
            "size_loss", "size_losses",
            "curve_crossing", "level_crossing", "fit_line", "fit_shared_p", "exponent_state",
            "pillar_sigma",
