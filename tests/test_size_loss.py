@@ -268,6 +268,9 @@ def test_pillar_variables_follow_from_the_scaling():
     # the spring force at the roughness over one pillar's own Kendall pull-off
     assert sl.pillar_spring(sigma_t, k_t, n, phi) == pytest.approx(
         brush.k(k_t) * sigma_t * brush.d_c / one.F_c)
+    # the roughness over the pillar's reach: its own d_c1 plus its spring's stretch at F_c1
+    assert sl.pillar_reach(sigma_t, k_t, n, phi) == pytest.approx(
+        sigma_t * brush.d_c / (one.d_c + one.F_c / brush.k(k_t)))
 
 
 def test_the_page_says_what_the_numbers_say(draws, tmp_path):
@@ -290,6 +293,8 @@ def test_the_page_says_what_the_numbers_say(draws, tmp_path):
     assert float(row16["spring_area"]) == pytest.approx(
         sl.pillar_k(1.0, 16, st.PHI) * float(row16["pillar_sigma_area"]))
     assert all(len(r) == len(t.page_rows[0]) for r in t.page_rows)
+    assert float(row16["reach_area"]) == pytest.approx(
+        float(row16["pillar_sigma_area"]) / (1 + 1 / sl.pillar_k(1.0, 16, st.PHI)))
     e = size_loss_page.extrapolation_table(d)
     assert len(e.csv_rows) == 1 + len(draws[0].extrapolations)
     line = size_loss_page.headline_line(d.size_loss)

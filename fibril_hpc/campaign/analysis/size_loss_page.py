@@ -41,7 +41,8 @@ def _drift_cells(dr) -> list:
 def _drift_text(dr) -> str:
     if not math.isfinite(dr.q):
         return "—"
-    return f"{val_ci(dr.q, dr.q_ci, '.2g')} ({dr.state})"
+    state = dr.state.replace("sigma~", "σ̃").replace("sigma", "σ")
+    return f"{val_ci(dr.q, dr.q_ci, '.2g')} ({state})"
 
 
 def table(d) -> Table:
@@ -58,10 +59,10 @@ def table(d) -> Table:
         "pillar_sigma_area", "area_trend", "sigma_zero", "sigma_zero_lo", "sigma_zero_hi",
         "zero_kind", "p", "p_lo", "p_hi", "p_state", "few_drift", "few_drift_lo",
         "few_drift_hi", "few_drift_state", "area_drift", "area_drift_lo", "area_drift_hi",
-        "area_drift_state", "spring_few", "spring_area"])
+        "area_drift_state", "spring_few", "spring_area", "reach_few", "reach_area"])
     t.page_rows.append(["k̃", "n_side", "k/(E* D)", f"σ̃ at {FEW_PILLARS:g} pillars [CI]",
                         "σ/d_c1 there", f"σ̃ at F̃_A = {thr:g} [CI]", "σ/d_c1 there",
-                        "k σ/F_c1 there", "note"])
+                        "k σ/F_c1 there", "σ/(d_c1 + F_c1/k) there", "note"])
     for k, s in d.size_loss.items():
         for few, area in zip(s.few, s.area):
             n = few.n_side
@@ -74,7 +75,9 @@ def table(d) -> Table:
                 num(area.threshold), num(area.sigma), *_ci(area.ci), area.kind,
                 str(area.below_floor).lower(), num(ps_area), *[""] * 17,
                 num(sl.pillar_spring(few.sigma, k, n, s.phi)),
-                num(sl.pillar_spring(area.sigma, k, n, s.phi))])
+                num(sl.pillar_spring(area.sigma, k, n, s.phi)),
+                num(sl.pillar_reach(few.sigma, k, n, s.phi)),
+                num(sl.pillar_reach(area.sigma, k, n, s.phi))])
             note = (f"the per-area threshold is within {FEW_PILLARS:g} pillars' pull-off here"
                     if area.below_floor else "")
             t.page_rows.append([f"{k:g}", str(n), fmt(kp, ".3g"),
@@ -82,19 +85,20 @@ def table(d) -> Table:
                                 fmt(ps_few, ".3g"),
                                 _sigma_cell(area.kind, area.sigma, area.ci, area.bracket),
                                 fmt(ps_area, ".3g"),
-                                fmt(sl.pillar_spring(area.sigma, k, n, s.phi), ".3g"), note])
+                                fmt(sl.pillar_spring(area.sigma, k, n, s.phi), ".3g"),
+                                fmt(sl.pillar_reach(area.sigma, k, n, s.phi), ".3g"), note])
         t.csv_rows.append([
             repr(k), "inf", "inf", str(min(s.n_seeds.values(), default=0)), "inf", "", "", "",
             "", "", "", num(s.area_threshold), num(s.sigma_inf), *_ci(s.sigma_inf_ci),
             s.sigma_inf_kind, "", "inf", s.area_trend, num(s.sigma_zero), *_ci(s.sigma_zero_ci),
             s.sigma_zero_kind, num(s.p), *_ci(s.p_ci), s.p_state,
-            *_drift_cells(s.few_drift), *_drift_cells(s.area_drift), "inf", "inf"])
+            *_drift_cells(s.few_drift), *_drift_cells(s.area_drift), "inf", "inf", "", ""])
         zero = _sigma_cell(s.sigma_zero_kind, s.sigma_zero, s.sigma_zero_ci,
                            s.sigma_zero_bracket)
         t.page_rows.append([
             f"{k:g}", "∞ (P∞)", "∞", "—", "∞",
             _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket), "∞",
-            "∞",
+            "∞", "—",
             f"P∞ = 0 at σ̃ = {zero}; per-area crossing over the two largest sizes: "
             f"{s.area_trend}; p = {val_ci(s.p, s.p_ci, '.3g')} ({s.p_state}); "
             f"d ln σ̃ / d ln N at {FEW_PILLARS:g} pillars {_drift_text(s.few_drift)}, "

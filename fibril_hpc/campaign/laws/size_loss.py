@@ -62,7 +62,8 @@ already at or below it at the smallest sigma~). Kind BRACKET, NO_LOSS or ALL_LOS
 scatters about 0, and a replicate that stays above 0 never crosses).
 
 **Pillar variables** (docs/finite-size.md): with N pillars of diameter D on the side L,
-sigma / d_c1 = sigma~ (phi N)^(1/4) and k / (E* D) = k~ sqrt(pi N / (4 phi)).
+sigma / d_c1 = sigma~ (phi N)^(1/4) and k / (E* D) = k~ sqrt(pi N / (4 phi)); from them
+k sigma / F_c1 (:func:`pillar_spring`) and sigma over one pillar's reach (:func:`pillar_reach`).
 """
 
 from __future__ import annotations
@@ -123,6 +124,14 @@ def pillar_spring(sigma_tilde: float, k_tilde: float, n_side: int, phi: float) -
     """The spring force at the roughness over one pillar's pull-off: k sigma / F_c1 =
     (k / (E* D)) (sigma / d_c1), since a flat punch's F_c1 = E* D d_c1."""
     return pillar_k(k_tilde, n_side, phi) * pillar_sigma(sigma_tilde, n_side, phi)
+
+
+def pillar_reach(sigma_tilde: float, k_tilde: float, n_side: int, phi: float) -> float:
+    """The roughness over one pillar's reach, sigma / (d_c1 + F_c1 / k): how far a pillar's
+    end can be pulled back before it lets go is its contact's own detachment displacement
+    d_c1 plus its spring's stretch at its pull-off force F_c1 (= E* D d_c1), so
+    sigma / reach = (sigma / d_c1) / (1 + E* D / k)."""
+    return pillar_sigma(sigma_tilde, n_side, phi) / (1.0 + 1.0 / pillar_k(k_tilde, n_side, phi))
 
 
 @dataclass
@@ -480,7 +489,7 @@ def size_losses(by_n_k: dict, phi: float, n_boot: int = N_BOOT, rng_seed: int = 
 
 __all__ = ["SizeLoss", "Crossing", "Extrapolation", "Drift", "crossing_drift", "drift_state",
            "Q_PILLAR", "Q_SPRING", "LIMITS", "FIXED_SIGMA", "FIXED_PILLAR", "FIXED_SPRING",
-           "NEITHER", "NOT_MEASURED", "pillar_spring",
+           "NEITHER", "NOT_MEASURED", "pillar_spring", "pillar_reach",
            "size_loss", "size_losses",
            "curve_crossing", "level_crossing", "fit_line", "fit_shared_p", "exponent_state",
            "pillar_sigma",
