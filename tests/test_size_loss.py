@@ -273,6 +273,19 @@ def test_pillar_variables_follow_from_the_scaling():
         sigma_t * brush.d_c / (one.d_c + one.F_c / brush.k(k_t)))
 
 
+def test_the_headline_names_each_k_sizes_when_they_differ(draws):
+    """Merged files may sweep other sizes per k~ (20 x 20 added to one k~ only): each k~'s part
+    of the headline names its own sizes; with one set of sizes the line names it once."""
+    from fibril_hpc.campaign.analysis import size_loss_page
+
+    wide = sl.size_loss(0.01, st.brushes((8, 12, 16, 20), pillars=2.5, rng=7), st.PHI,
+                        n_boot=20)
+    line = size_loss_page.headline_line({1.0: draws[0], 0.01: wide})
+    assert "k̃ = 1 (sizes 8, 12, 16):" in line and "k̃ = 0.01 (sizes 8, 12, 16, 20):" in line
+    one = size_loss_page.headline_line({1.0: draws[0], 0.5: draws[1]})
+    assert one.startswith("Loss across sizes (sizes 8, 12, 16): k̃ = 1: ")
+
+
 def test_the_page_says_what_the_numbers_say(draws, tmp_path):
     from fibril_hpc.campaign.analysis import figures_size_loss, size_loss_page
 

@@ -129,15 +129,19 @@ def extrapolation_table(d) -> Table:
 def headline_line(size_loss: dict) -> str:
     """One line: per k~, where adhesion per area is lost (sigma~_inf) beside the few-pillar
     crossing of each size."""
+    sizes = {s.n_sides for s in size_loss.values()}
+    own = len(sizes) > 1                 # k~ read over different sizes: each says its own
     parts = []
     for k, s in size_loss.items():
         few = ", ".join(f"{c.n_side}: {_sigma_cell(c.kind, c.sigma, c.ci, c.bracket)}"
                         for c in s.few)
         inf = _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket)
-        parts.append(f"k̃ = {k:g}: per area (F̃_A = {s.area_threshold:g} in the N → ∞ "
+        of = f" (sizes {', '.join(map(str, s.n_sides))})" if own else ""
+        parts.append(f"k̃ = {k:g}{of}: per area (F̃_A = {s.area_threshold:g} in the N → ∞ "
                      f"extrapolation) σ̃ = {inf}; at {FEW_PILLARS:g} pillars, by n_side, {few}")
-    return ("Loss across sizes (sizes " + ", ".join(
-        str(n) for n in next(iter(size_loss.values())).n_sides) + "): " + "; ".join(parts) + ".")
+    head = ("Loss across sizes: " if own else "Loss across sizes (sizes " + ", ".join(
+        str(n) for n in next(iter(sizes))) + "): ")
+    return head + "; ".join(parts) + "."
 
 
 __all__ = ["table", "extrapolation_table", "headline_line"]
