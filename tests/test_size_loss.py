@@ -136,6 +136,111 @@ def test_two_sizes_give_crossings_but_no_extrapolation():
                      n_boot=20)
     assert len(s.few) == 2 and not s.extrapolations
     assert s.sigma_inf_kind == sl.NOT_READ and s.p_state == sl.NOT_FITTED
+    # two crossed sizes are enough for a drift (no degree of freedom, but a slope)
+    assert s.area_drift.n_sides == (8, 16) and s.area_drift.state != sl.NOT_MEASURED
+    q = math.log(s.area[1].sigma / s.area[0].sigma) / math.log(4.0)
+    assert s.area_drift.q == pytest.approx(q)
+
+
+def test_a_size_whose_few_pillar_threshold_reaches_the_area_one_is_left_out_of_its_drift():
+    """At 4 x 4 three pillars' pull-off (0.24) is above F~_A = 0.1: its per-area crossing is a
+    pillar count, so the per-area drift reads 8 and 16 only; the 3-pillar drift reads all."""
+    s = sl.size_loss(1.0, st.brushes((4, 8, 16), pillars=0.5, rng=4), st.PHI, n_boot=20)
+    assert s.area[0].below_floor and not s.area[1].below_floor
+    assert s.area_drift.n_sides == (8, 16)
+    assert s.few_drift.n_sides == tuple(c.n_side for c in s.few if c.kind == sl.BRACKET)
+
+
+FAR = (8, 16, 32, 64)
+FAR_SIGMAS = (0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6, 0.7, 0.85, 1.0)
+
+
+@pytest.mark.parametrize("pillar_ref, q_true, state, sigmas", [
+    (None, 0.0, sl.FIXED_SIGMA, FAR_SIGMAS), (16, sl.Q_PILLAR, sl.FIXED_PILLAR, FAR_SIGMAS),
+    (16, sl.Q_SPRING, sl.FIXED_SPRING, tuple(np.geomspace(0.03, 2.5, 24).round(4)))])
+def test_the_drift_tells_the_three_limits_apart(pillar_ref, q_true, state, sigmas):
+    """Sizes a factor 64 apart and a small finite-size term (0.2 pillars): a loss per area at
+    a fixed sigma~ has a per-area crossing that stays put (q = 0); one at a fixed sigma / d_c1
+    moves as N^(-1/4), one at a fixed k sigma / F_c1 as N^(-3/4)."""
+    for r in range(2):
+        s = sl.size_loss(1.0, st.brushes(FAR, sigmas=sigmas, pillars=0.2, pillar_ref=pillar_ref,
+                                         loss_drift=q_true, rng=r), st.PHI, n_boot=40,
+                         rng_seed=r)
+        d = s.area_drift
+        assert d.n_sides == FAR and d.state == state, (d.q, d.q_ci)
+        assert abs(d.q - q_true) < 0.02 and d.q_ci[0] < d.q < d.q_ci[1]
+
+
+def _true_drift(threshold_of_n, sizes=SIZES, pillars=2.5):
+    """The least-squares d ln sigma~ / d ln N of the synthetic truth's crossings."""
+    x = np.log([n * n for n in sizes])
+    y = [math.log(st.sigma_at(threshold_of_n(n) - st.amplitude(pillars) * (n * n) ** -0.75))
+         for n in sizes]
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def test_the_crossings_drift_as_the_truth_does_over_8_to_16(draws):
+    """Loss per area at a fixed sigma~ plus 2.5 pillars' finite-size term: the per-area
+    crossing falls towards sigma~_inf (q < 0), the 3-pillar one rises towards sigma~_0
+    (q > 0); the measured q's intervals hold the truth's."""
+    from fibril_hpc.campaign.laws.reading import FEW_PILLARS, pillar_floor
+
+    q_area = _true_drift(lambda n: THR)
+    q_few = _true_drift(lambda n: FEW_PILLARS * pillar_floor(n, st.PHI))
+    assert q_area < -0.05 and q_few > 0.01
+    cover_area = cover_few = 0
+    for s in draws:
+        assert s.area_drift.q < 0 < s.few_drift.q
+        cover_area += s.area_drift.q_ci[0] <= q_area <= s.area_drift.q_ci[1]
+        cover_few += s.few_drift.q_ci[0] <= q_few <= s.few_drift.q_ci[1]
+    assert cover_area >= 3 and cover_few >= 3
+
+
+def _crossing(n, sigma, reps):
+    return sl.Crossing(n, 0.1, sl.BRACKET, sigma, (0.0, 1.0), (0.0, 1.0), 4,
+                       replicates=tuple(reps))
+
+
+def test_a_replicate_that_does_not_cross_leaves_the_drift_unbounded_on_its_side():
+    """A replicate without a crossing at the largest size (inf) is a drift of +inf; at the
+    smallest size (inf there) one of -inf; the value itself is the bracketed crossings'."""
+    rng = np.random.default_rng(0)
+    base = {8: 0.6, 12: 0.55, 16: 0.5}
+
+    def reps(n, inf_share):
+        r = base[n] * np.exp(0.03 * rng.standard_normal(200))
+        r[: int(inf_share * 200)] = math.inf
+        return r
+
+    up = sl.crossing_drift([_crossing(n, base[n], reps(n, 0.2 if n == 16 else 0))
+                            for n in SIZES])
+    down = sl.crossing_drift([_crossing(n, base[n], reps(n, 0.2 if n == 8 else 0))
+                              for n in SIZES])
+    q = float(np.polyfit(np.log([64, 144, 256]), np.log([0.6, 0.55, 0.5]), 1)[0])
+    assert up.q == pytest.approx(q) and down.q == pytest.approx(q)
+    assert up.q_ci[1] == math.inf and math.isfinite(up.q_ci[0])
+    assert down.q_ci[0] == -math.inf and math.isfinite(down.q_ci[1])
+    # one bracketed size, or none replicated: no drift measured
+    one = sl.crossing_drift([_crossing(8, 0.6, reps(8, 0)),
+                             sl.Crossing(16, 0.1, sl.NO_LOSS, math.nan)])
+    assert one.state == sl.NOT_MEASURED and math.isnan(one.q)
+    bare = sl.crossing_drift([sl.Crossing(n, 0.1, sl.BRACKET, base[n]) for n in SIZES])
+    assert bare.q == pytest.approx(q) and bare.state == sl.NOT_MEASURED
+
+
+@pytest.mark.parametrize("q, ci, state", [
+    (-0.02, (-0.1, 0.05), sl.FIXED_SIGMA), (-0.25, (-0.3, -0.2), sl.FIXED_PILLAR),
+    (-0.8, (-0.9, -0.7), sl.FIXED_SPRING), (-0.5, (-0.76, -0.4), sl.FIXED_SPRING),
+    (-0.1, (-0.3, 0.1), "fixed sigma~ or fixed sigma/d_c1"),
+    (-0.1, (-0.2, -0.05), sl.NEITHER), (-0.5, (-0.7, -0.3), sl.NEITHER),
+    (0.3, (0.2, 0.4), sl.NEITHER), (-1.2, (-2.0, -0.8), sl.NEITHER),
+    (-0.5, (-math.inf, -0.1), "fixed sigma/d_c1 or fixed k sigma/F_c1"),
+    (0.0, (-0.1, math.inf), sl.FIXED_SIGMA), (-0.25, (-0.25, 0.0),
+                                              "fixed sigma~ or fixed sigma/d_c1"),
+    (-0.3, (-1.0, 0.2), "fixed sigma~ or fixed sigma/d_c1 or fixed k sigma/F_c1"),
+    (math.nan, (-0.1, 0.1), sl.NOT_MEASURED), (0.0, (math.nan, math.nan), sl.NOT_MEASURED)])
+def test_the_drift_state(q, ci, state):
+    assert sl.drift_state(q, ci) == state
 
 
 def test_curve_crossing_is_exact_on_a_power_law_and_bounded():
@@ -160,6 +265,25 @@ def test_pillar_variables_follow_from_the_scaling():
     assert sl.pillar_sigma(sigma_t, n, phi) == pytest.approx(sigma_t * brush.d_c / one.d_c)
     D = 2.0 * math.sqrt(phi / n ** 2 / math.pi)
     assert sl.pillar_k(k_t, n, phi) == pytest.approx(brush.k(k_t) / D)
+    # the spring force at the roughness over one pillar's own Kendall pull-off
+    assert sl.pillar_spring(sigma_t, k_t, n, phi) == pytest.approx(
+        brush.k(k_t) * sigma_t * brush.d_c / one.F_c)
+    # the roughness over the pillar's reach: its own d_c1 plus its spring's stretch at F_c1
+    assert sl.pillar_reach(sigma_t, k_t, n, phi) == pytest.approx(
+        sigma_t * brush.d_c / (one.d_c + one.F_c / brush.k(k_t)))
+
+
+def test_the_headline_names_each_k_sizes_when_they_differ(draws):
+    """Merged files may sweep other sizes per k~ (20 x 20 added to one k~ only): each k~'s part
+    of the headline names its own sizes; with one set of sizes the line names it once."""
+    from fibril_hpc.campaign.analysis import size_loss_page
+
+    wide = sl.size_loss(0.01, st.brushes((8, 12, 16, 20), pillars=2.5, rng=7), st.PHI,
+                        n_boot=20)
+    line = size_loss_page.headline_line({1.0: draws[0], 0.01: wide})
+    assert "k̃ = 1 (sizes 8, 12, 16):" in line and "k̃ = 0.01 (sizes 8, 12, 16, 20):" in line
+    one = size_loss_page.headline_line({1.0: draws[0], 0.5: draws[1]})
+    assert one.startswith("Loss across sizes (sizes 8, 12, 16): k̃ = 1: ")
 
 
 def test_the_page_says_what_the_numbers_say(draws, tmp_path):
@@ -171,9 +295,19 @@ def test_the_page_says_what_the_numbers_say(draws, tmp_path):
     assert len(t.csv_rows) == 1 + len(SIZES) + 1 and all(len(r) == len(head) for r in t.csv_rows)
     inf_row = dict(zip(head, t.csv_rows[-1]))
     assert inf_row["n_side"] == "inf" and float(inf_row["sigma_area"]) == draws[0].sigma_inf
+    for name in ("few_drift", "area_drift"):
+        dr = getattr(draws[0], name)
+        assert float(inf_row[name]) == dr.q and inf_row[name + "_state"] == dr.state
+        assert (float(inf_row[name + "_lo"]), float(inf_row[name + "_hi"])) == dr.q_ci
+    assert f"{draws[0].area_drift.q:.2g}" in t.page_rows[-1][-1]
     row16 = dict(zip(head, t.csv_rows[3]))
     assert float(row16["pillar_sigma_few"]) == pytest.approx(
         draws[0].few[2].sigma * (st.PHI * 256) ** 0.25)
+    assert float(row16["spring_area"]) == pytest.approx(
+        sl.pillar_k(1.0, 16, st.PHI) * float(row16["pillar_sigma_area"]))
+    assert all(len(r) == len(t.page_rows[0]) for r in t.page_rows)
+    assert float(row16["reach_area"]) == pytest.approx(
+        float(row16["pillar_sigma_area"]) / (1 + 1 / sl.pillar_k(1.0, 16, st.PHI)))
     e = size_loss_page.extrapolation_table(d)
     assert len(e.csv_rows) == 1 + len(draws[0].extrapolations)
     line = size_loss_page.headline_line(d.size_loss)

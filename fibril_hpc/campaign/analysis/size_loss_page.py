@@ -8,14 +8,20 @@ Every column is defined in docs/report.md ("Where adhesion is lost, across sizes
 
 from __future__ import annotations
 
+import math
 
 from ..laws import size_loss as sl
 from ..laws.reading import FEW_PILLARS
 from .tables import Table, fmt, num, val_ci
 
 
+def _end(v) -> str:
+    """An interval end: unbounded ends are ``inf`` / ``-inf`` (an empty cell is undefined)."""
+    return ("inf" if v > 0 else "-inf") if v is not None and math.isinf(v) else num(v)
+
+
 def _ci(ci) -> list:
-    return [num(ci[0]), num(ci[1])]
+    return [_end(ci[0]), _end(ci[1])]
 
 
 def _sigma_cell(kind: str, sigma: float, ci: tuple, bracket: tuple) -> str:
@@ -26,6 +32,17 @@ def _sigma_cell(kind: str, sigma: float, ci: tuple, bracket: tuple) -> str:
     if kind == sl.ALL_LOST:
         return f"< {fmt(bracket[1], '.3g')} (below every σ̃ run)"
     return "—"
+
+
+def _drift_cells(dr) -> list:
+    return [num(dr.q), *_ci(dr.q_ci), dr.state]
+
+
+def _drift_text(dr) -> str:
+    if not math.isfinite(dr.q):
+        return "—"
+    state = dr.state.replace("sigma~", "σ̃").replace("sigma", "σ")
+    return f"{val_ci(dr.q, dr.q_ci, '.2g')} ({state})"
 
 
 def table(d) -> Table:
@@ -40,9 +57,12 @@ def table(d) -> Table:
         "sigma_few_lo", "sigma_few_hi", "few_kind", "pillar_sigma_few", "area_threshold",
         "sigma_area", "sigma_area_lo", "sigma_area_hi", "area_kind", "area_below_floor",
         "pillar_sigma_area", "area_trend", "sigma_zero", "sigma_zero_lo", "sigma_zero_hi",
-        "zero_kind", "p", "p_lo", "p_hi", "p_state"])
+        "zero_kind", "p", "p_lo", "p_hi", "p_state", "few_drift", "few_drift_lo",
+        "few_drift_hi", "few_drift_state", "area_drift", "area_drift_lo", "area_drift_hi",
+        "area_drift_state", "spring_few", "spring_area", "reach_few", "reach_area"])
     t.page_rows.append(["k̃", "n_side", "k/(E* D)", f"σ̃ at {FEW_PILLARS:g} pillars [CI]",
-                        "σ/d_c1 there", f"σ̃ at F̃_A = {thr:g} [CI]", "σ/d_c1 there", "note"])
+                        "σ/d_c1 there", f"σ̃ at F̃_A = {thr:g} [CI]", "σ/d_c1 there",
+                        "k σ/F_c1 there", "σ/(d_c1 + F_c1/k) there", "note"])
     for k, s in d.size_loss.items():
         for few, area in zip(s.few, s.area):
             n = few.n_side
@@ -53,26 +73,36 @@ def table(d) -> Table:
                 repr(k), str(n), str(n * n), str(s.n_seeds.get(n, 0)), num(kp),
                 num(few.threshold), num(few.sigma), *_ci(few.ci), few.kind, num(ps_few),
                 num(area.threshold), num(area.sigma), *_ci(area.ci), area.kind,
-                str(area.below_floor).lower(), num(ps_area), "", "", "", "", "", "", "", "", ""])
+                str(area.below_floor).lower(), num(ps_area), *[""] * 17,
+                num(sl.pillar_spring(few.sigma, k, n, s.phi)),
+                num(sl.pillar_spring(area.sigma, k, n, s.phi)),
+                num(sl.pillar_reach(few.sigma, k, n, s.phi)),
+                num(sl.pillar_reach(area.sigma, k, n, s.phi))])
             note = (f"the per-area threshold is within {FEW_PILLARS:g} pillars' pull-off here"
                     if area.below_floor else "")
             t.page_rows.append([f"{k:g}", str(n), fmt(kp, ".3g"),
                                 _sigma_cell(few.kind, few.sigma, few.ci, few.bracket),
                                 fmt(ps_few, ".3g"),
                                 _sigma_cell(area.kind, area.sigma, area.ci, area.bracket),
-                                fmt(ps_area, ".3g"), note])
+                                fmt(ps_area, ".3g"),
+                                fmt(sl.pillar_spring(area.sigma, k, n, s.phi), ".3g"),
+                                fmt(sl.pillar_reach(area.sigma, k, n, s.phi), ".3g"), note])
         t.csv_rows.append([
             repr(k), "inf", "inf", str(min(s.n_seeds.values(), default=0)), "inf", "", "", "",
             "", "", "", num(s.area_threshold), num(s.sigma_inf), *_ci(s.sigma_inf_ci),
             s.sigma_inf_kind, "", "inf", s.area_trend, num(s.sigma_zero), *_ci(s.sigma_zero_ci),
-            s.sigma_zero_kind, num(s.p), *_ci(s.p_ci), s.p_state])
+            s.sigma_zero_kind, num(s.p), *_ci(s.p_ci), s.p_state,
+            *_drift_cells(s.few_drift), *_drift_cells(s.area_drift), "inf", "inf", "", ""])
         zero = _sigma_cell(s.sigma_zero_kind, s.sigma_zero, s.sigma_zero_ci,
                            s.sigma_zero_bracket)
         t.page_rows.append([
             f"{k:g}", "∞ (P∞)", "∞", "—", "∞",
             _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket), "∞",
+            "∞", "—",
             f"P∞ = 0 at σ̃ = {zero}; per-area crossing over the two largest sizes: "
-            f"{s.area_trend}; p = {val_ci(s.p, s.p_ci, '.3g')} ({s.p_state})"])
+            f"{s.area_trend}; p = {val_ci(s.p, s.p_ci, '.3g')} ({s.p_state}); "
+            f"d ln σ̃ / d ln N at {FEW_PILLARS:g} pillars {_drift_text(s.few_drift)}, "
+            f"at F̃_A = {thr:g} {_drift_text(s.area_drift)}"])
     return t
 
 
@@ -99,15 +129,19 @@ def extrapolation_table(d) -> Table:
 def headline_line(size_loss: dict) -> str:
     """One line: per k~, where adhesion per area is lost (sigma~_inf) beside the few-pillar
     crossing of each size."""
+    sizes = {s.n_sides for s in size_loss.values()}
+    own = len(sizes) > 1                 # k~ read over different sizes: each says its own
     parts = []
     for k, s in size_loss.items():
         few = ", ".join(f"{c.n_side}: {_sigma_cell(c.kind, c.sigma, c.ci, c.bracket)}"
                         for c in s.few)
         inf = _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket)
-        parts.append(f"k̃ = {k:g}: per area (F̃_A = {s.area_threshold:g} in the N → ∞ "
+        of = f" (sizes {', '.join(map(str, s.n_sides))})" if own else ""
+        parts.append(f"k̃ = {k:g}{of}: per area (F̃_A = {s.area_threshold:g} in the N → ∞ "
                      f"extrapolation) σ̃ = {inf}; at {FEW_PILLARS:g} pillars, by n_side, {few}")
-    return ("Loss across sizes (sizes " + ", ".join(
-        str(n) for n in next(iter(size_loss.values())).n_sides) + "): " + "; ".join(parts) + ".")
+    head = ("Loss across sizes: " if own else "Loss across sizes (sizes " + ", ".join(
+        str(n) for n in next(iter(sizes))) + "): ")
+    return head + "; ".join(parts) + "."
 
 
 __all__ = ["table", "extrapolation_table", "headline_line"]

@@ -25,6 +25,20 @@ stress). ``below_floor`` marks a size whose few-pillar threshold is at or above 
 crossing there is a pillar count, not a stress). :attr:`SizeLoss.area_trend` compares the two
 largest sizes: STEADY when their intervals overlap, DRIFTS when they do not.
 
+**Drift of a crossing with N** (:class:`Drift`, per threshold): q = d ln sigma~ / d ln N, the
+least-squares slope of ln sigma~ against ln N over the sizes where that crossing is bracketed
+(at least two; for the per-area threshold, not ``below_floor``); its interval from the same
+replicates (each size's own, so a replicate's slope pairs independent draws; a replicate that
+does not cross at one size gives an infinite slope of the sign that size's weight has). Three
+limits are told apart (:data:`LIMITS`): a loss at a fixed sigma~ of the paper's variables has
+q = 0; one at a fixed pillar-scale roughness sigma / d_c1 = sigma~ (phi N)^(1/4) has
+q = -1/4; one at a fixed spring force at the roughness against one pillar's pull-off,
+k sigma / F_c1 = (k / (E* D)) (sigma / d_c1) (E* D d_c1 = F_c1 for a flat punch), which grows
+as k~ sigma~ N^(3/4), has q = -3/4. The state names every limit whose q lies in the interval
+(joined by " or "), NEITHER when none does, NOT_MEASURED with fewer than two bracketed sizes
+or no interval. Over close sizes a crossing that converges from above to a fixed sigma~ still
+has q < 0: the state reads the sizes run, not the limit.
+
 **Extrapolation in N** (per sigma~ run at every size of at least ``MIN_SIZES``): the weighted
 least-squares line P(N) = P_inf + A N^(-p) with p = 3/4 (a fixed number of pillars' pull-off
 scales as N^(-3/4)), weights 1 / (seed sd of the plateau)^2 at each size (floored at
@@ -48,7 +62,8 @@ already at or below it at the smallest sigma~). Kind BRACKET, NO_LOSS or ALL_LOS
 scatters about 0, and a replicate that stays above 0 never crosses).
 
 **Pillar variables** (docs/finite-size.md): with N pillars of diameter D on the side L,
-sigma / d_c1 = sigma~ (phi N)^(1/4) and k / (E* D) = k~ sqrt(pi N / (4 phi)).
+sigma / d_c1 = sigma~ (phi N)^(1/4) and k / (E* D) = k~ sqrt(pi N / (4 phi)); from them
+k sigma / F_c1 (:func:`pillar_spring`) and sigma over one pillar's reach (:func:`pillar_reach`).
 """
 
 from __future__ import annotations
@@ -85,6 +100,13 @@ P_SPAN = 4.0
 P_BOUNDS = (0.05, 3.0)
 #: per-area crossing trend over the two largest sizes
 STEADY, DRIFTS = "steady", "drifts"
+#: d ln sigma~ / d ln N of a loss at a fixed pillar-scale roughness sigma / d_c1, and at a
+#: fixed spring force at the roughness over one pillar's pull-off, k sigma / F_c1
+Q_PILLAR, Q_SPRING = -0.25, -0.75
+#: drift states: the limits (q, name) a drift is compared with, and the other states
+FIXED_SIGMA, FIXED_PILLAR, FIXED_SPRING = "fixed sigma~", "fixed sigma/d_c1", "fixed k sigma/F_c1"
+LIMITS = ((0.0, FIXED_SIGMA), (Q_PILLAR, FIXED_PILLAR), (Q_SPRING, FIXED_SPRING))
+NEITHER, NOT_MEASURED = "none of the three", "not measured"
 
 
 def pillar_sigma(sigma_tilde: float, n_side: int, phi: float) -> float:
@@ -96,6 +118,20 @@ def pillar_k(k_tilde: float, n_side: int, phi: float) -> float:
     """One pillar's spring against its own contact stiffness: k / (E* D) = k~ L / D,
     D = L sqrt(4 phi / (pi N))."""
     return float(k_tilde) * math.sqrt(math.pi * n_side * n_side / (4.0 * float(phi)))
+
+
+def pillar_spring(sigma_tilde: float, k_tilde: float, n_side: int, phi: float) -> float:
+    """The spring force at the roughness over one pillar's pull-off: k sigma / F_c1 =
+    (k / (E* D)) (sigma / d_c1), since a flat punch's F_c1 = E* D d_c1."""
+    return pillar_k(k_tilde, n_side, phi) * pillar_sigma(sigma_tilde, n_side, phi)
+
+
+def pillar_reach(sigma_tilde: float, k_tilde: float, n_side: int, phi: float) -> float:
+    """The roughness over one pillar's reach, sigma / (d_c1 + F_c1 / k): how far a pillar's
+    end can be pulled back before it lets go is its contact's own detachment displacement
+    d_c1 plus its spring's stretch at its pull-off force F_c1 (= E* D d_c1), so
+    sigma / reach = (sigma / d_c1) / (1 + E* D / k)."""
+    return pillar_sigma(sigma_tilde, n_side, phi) / (1.0 + 1.0 / pillar_k(k_tilde, n_side, phi))
 
 
 @dataclass
@@ -110,6 +146,17 @@ class Crossing:
     bracket: tuple = NAN2
     n_seeds: int = 0
     below_floor: bool = False        # the few-pillar threshold reaches this one
+    replicates: tuple = ()           # the bootstrap replicates' crossings (0 / inf: none inside)
+
+
+@dataclass
+class Drift:
+    """How one threshold's crossing moves with the brush size: sigma~ ~ N^q (module text)."""
+
+    n_sides: tuple = ()              # the sizes whose crossing is bracketed
+    q: float = math.nan
+    q_ci: tuple = NAN2
+    state: str = NOT_MEASURED
 
 
 @dataclass
@@ -142,6 +189,8 @@ class SizeLoss:
     few: list = field(default_factory=list)          # Crossing per size, FEW_PILLARS threshold
     area: list = field(default_factory=list)         # Crossing per size, area_threshold
     area_trend: str = UNKNOWN
+    few_drift: Drift = field(default_factory=Drift)
+    area_drift: Drift = field(default_factory=Drift)
     extrapolations: list = field(default_factory=list)
     p: float = math.nan
     p_ci: tuple = NAN2
@@ -190,6 +239,7 @@ def _crossing(n, sigmas, plat, reps, thr, n_seeds) -> Crossing:
     c.sigma = s
     if math.isfinite(s) and reps is not None:
         r = [curve_crossing(sigmas, row, thr, clip=False)[0] for row in reps]
+        c.replicates = tuple(r)
         c.ci = tuple(max(v, 0.0) for v in expanded(s, percentile_interval(r), n_seeds))
     return c
 
@@ -315,7 +365,39 @@ def size_loss(k_tilde: float, by_n: dict, phi: float, n_boot: int = N_BOOT, rng_
     return out
 
 
+def drift_state(q: float, ci: tuple) -> str:
+    """The state of a measured drift ``q`` with interval ``ci`` (module text)."""
+    lo, hi = ci
+    if not (math.isfinite(q) and not math.isnan(lo) and not math.isnan(hi)):
+        return NOT_MEASURED
+    inside = [name for q_ref, name in LIMITS if lo <= q_ref <= hi]
+    return " or ".join(inside) if inside else NEITHER
+
+
+def crossing_drift(crossings) -> Drift:
+    """q = d ln sigma~ / d ln N over the bracketed crossings of several sizes (module text)."""
+    use = [c for c in crossings if c.kind == BRACKET and math.isfinite(c.sigma)]
+    d = Drift(tuple(c.n_side for c in use))
+    if len(use) < 2:
+        return d
+    x = np.log([float(c.n_side) ** 2 for c in use])
+    w = (x - x.mean()) / np.sum((x - x.mean()) ** 2)       # slope = w . ln sigma~
+    d.q = float(w @ np.log([c.sigma for c in use]))
+    reps = [np.asarray(c.replicates, float) for c in use]
+    if not all(r.size for r in reps):
+        return d
+    m = min(r.size for r in reps)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        y = np.log(np.stack([r[:m] for r in reps], axis=1))      # 0 -> -inf, inf -> inf
+        q = np.array([float(np.sum(w * row)) for row in y])    # mixed infinities -> NaN
+    d.q_ci = expanded(d.q, percentile_interval(q), min(c.n_seeds for c in use))
+    d.state = drift_state(d.q, d.q_ci)
+    return d
+
+
 def _trend(out: SizeLoss) -> None:
+    out.few_drift = crossing_drift(out.few)
+    out.area_drift = crossing_drift([c for c in out.area if not c.below_floor])
     use = [c for c in out.area if c.kind == BRACKET and not c.below_floor
            and all(math.isfinite(v) for v in c.ci)]
     if len(use) >= 2:
@@ -406,7 +488,10 @@ def size_losses(by_n_k: dict, phi: float, n_boot: int = N_BOOT, rng_seed: int = 
             for k in ks}
 
 
-__all__ = ["SizeLoss", "Crossing", "Extrapolation", "size_loss", "size_losses",
+__all__ = ["SizeLoss", "Crossing", "Extrapolation", "Drift", "crossing_drift", "drift_state",
+           "Q_PILLAR", "Q_SPRING", "LIMITS", "FIXED_SIGMA", "FIXED_PILLAR", "FIXED_SPRING",
+           "NEITHER", "NOT_MEASURED", "pillar_spring", "pillar_reach",
+           "size_loss", "size_losses",
            "curve_crossing", "level_crossing", "fit_line", "fit_shared_p", "exponent_state",
            "pillar_sigma",
            "pillar_k", "P_FEW",
