@@ -154,7 +154,8 @@ def test_the_measured_loss_in_one_sentence():
                   per_seed=((0, 0.97), (1, NAN), (2, 1.11), (3, INF)), again=(2.1, 3.0))
     assert vt.loss_note(_study(measured=m)) == (
         "adhesion lost at sigma~ = 1.04 [0.95, ∞] (the plateau crosses the loss threshold "
-        "0.0248; bracket 0.9-1.2); each seed's own crossing lies in 0.97-∞ (3 seeds); "
+        "0.0248; bracket 0.9-1.2); each seed's own crossing: 2 inside (0.97-1.11), 1 above "
+        "1.2 (3 seeds); "
         "adhesion is found again above it at sigma~ = 2.1, 3 (not monotone in sigma~); with "
         "their seeds the state of sigma~ = 0.8, 1.5 is not certain (plateau interval holds the "
         "threshold): the loss lies in (0.8, ∞]")
@@ -162,7 +163,7 @@ def test_the_measured_loss_in_one_sentence():
                   ci=(0.95, 1.15), threshold=0.0248, per_seed=((0, 0.97), (2, 1.11111)))
     assert vt.loss_note(_study(measured=m)) == (
         "adhesion lost at sigma~ = 1.04 [0.95, 1.15] (the plateau crosses the loss threshold "
-        "0.0248; bracket 0.9-1.2); each seed's own crossing lies in 0.97-1.11 (2 seeds)")
+        "0.0248; bracket 0.9-1.2); each seed's own crossing: 2 inside (0.97-1.11) (2 seeds)")
     m = loss.Loss(kind=loss.BRACKET, bracket=(0.9, 1.2), sigma=1.0, threshold=0.0248,
                   per_seed=((0, 0.97),))
     assert vt.loss_note(_study(measured=m)) == (

@@ -261,9 +261,10 @@ def test_each_seeds_own_crossing_is_said_as_bounds_never_0_or_inf():
     m = loss.Loss(kind=loss.BRACKET, bracket=(0.8, 1.2), span=(0.7, 1.4), sigma=1.0,
                   ci=(0.9, 1.1), threshold=LOSS, per_seed=((0, 0.0), (1, 1.05), (2, math.inf)))
     note = verdict_text.loss_note(SimpleNamespace(loss=m))
-    assert "from below 0.8 to above 1.2 (3 seeds)" in note
-    m.per_seed = ((0, 0.9), (1, 1.05), (2, math.nan))
-    assert "from 0.9 to 1.05 (2 seeds)" in verdict_text.loss_note(SimpleNamespace(loss=m))
+    assert "own crossing: 1 below 0.8, 1 inside (1.05-1.05), 1 above 1.2 (3 seeds)" in note
+    m.per_seed = ((0, 0.9), (1, 1.05), (2, math.nan), (3, 0.145), (4, 89.4))
+    assert "own crossing: 1 below 0.8, 2 inside (0.9-1.05), 1 above 1.2 (4 seeds)" in \
+        verdict_text.loss_note(SimpleNamespace(loss=m))
 
 
 def _brushes(sigma_plateaus: dict, weights: dict) -> dict:

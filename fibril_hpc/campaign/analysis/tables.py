@@ -67,6 +67,11 @@ def num(v) -> str:
     return repr(float(v)) if v is not None and math.isfinite(v) else ""
 
 
+def num_inf(v) -> str:
+    """A CSV interval end: :func:`num`, and ``inf`` for an unbounded one."""
+    return "inf" if v == math.inf else num(v)
+
+
 def fmt(v, f=".4g") -> str:
     """A page number: an em dash when undefined, ∞ for infinity."""
     if v is None or (isinstance(v, float) and math.isnan(v)):
@@ -137,8 +142,8 @@ def alpha_beta(d) -> Table:
                            str(a.n_active), str(a.n_zero), num(a.chi2_red), str(a.poor).lower(),
                            num(d.bias), dom, ci_method(st), num(st.sigma_loss),
                            *_ci_csv(st.sigma_loss_ci), st.loss_kind, num(st.loss_bracket[0]),
-                           num(st.loss_bracket[1]), *_ci_csv(st.loss.another),
-                           *_ci_csv(measured_span(st)), str(st.loss_vs_law), relation_why(st),
+                           num(st.loss_bracket[1]), *map(num_inf, st.loss.another),
+                           *map(num_inf, measured_span(st)), str(st.loss_vs_law), relation_why(st),
                            note])
         shown = st.status != "undefined"
         law = st.status if st.status == "fitted" else f"**{st.status}**"

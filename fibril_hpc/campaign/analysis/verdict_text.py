@@ -154,11 +154,15 @@ def loss_note(st) -> str:
                 f"loss threshold {m.threshold:.3g}; bracket {lo:.3g}-{hi:.3g})")
         own = [x for _, x in m.per_seed if not math.isnan(x)]
         if len(own) > 1:
-            # a seed lost at both groups crosses somewhere below lo (0 by the crossing's rule),
-            # one holding at both somewhere above hi (inf): said as bounds, never "0" or "∞"
-            low = f"below {lo:.3g}" if min(own) <= 0 else f"{min(own):.3g}"
-            high = f"above {hi:.3g}" if max(own) == math.inf else f"{max(own):.3g}"
-            note += f"; each seed's own crossing lies from {low} to {high} ({len(own)} seeds)"
+            # a seed's own line crosses outside the bracket where it is lost (or holds) at both
+            # groups: where beyond them is not measured, so it is counted, not extrapolated
+            below = sum(x < lo for x in own)
+            above = sum(x > hi for x in own)
+            inside = [x for x in own if lo <= x <= hi]
+            parts = ([f"{below} below {lo:.3g}"] if below else []) + (
+                [f"{len(inside)} inside ({min(inside):.3g}-{max(inside):.3g})"] if inside
+                else []) + ([f"{above} above {hi:.3g}"] if above else [])
+            note += f"; each seed's own crossing: {', '.join(parts)} ({len(own)} seeds)"
         if m.matched:
             note += (f"; the two groups ran {m.matched[0]} and {m.matched[1]} seeds: the crossing "
                      f"compares the same {m.matched[0]} brushes (the smaller group's plateau "
