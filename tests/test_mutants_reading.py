@@ -435,7 +435,7 @@ def test_every_field_of_a_lost_reading_and_its_creep_note():
     assert r.c_detect == pytest.approx(0.02 * 0.025 / (0.16 - 0.001), rel=1e-12)
     assert r.notes == [f"adhesion lost: plateau F~_A = 0.025, within 3 pillars' pull-off (0.03; one "
                        f"pillar: 0.01); it creeps from 0.01 (a secant of {0.0125 / xh:.3g} through "
-                       "its half point, the uncertainty of c = 0 in the fit)"] == r.c_notes
+                       "its half point: how loosely its c = 0 holds)"] == r.c_notes
     # exactly half the plateau at the smallest preload: no creep below half, no c_res
     r = rd.read_group(*_group(lambda x: 0.01 if x < 0.005 else 0.02, pre, dev=(0.0, 0.0)),
                       floor=floor)

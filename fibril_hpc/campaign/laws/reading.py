@@ -27,7 +27,8 @@ preload ("plateau not reached": the value is F~_A there, a lower bound).
   (``FEW_PILLARS * floor``): F~_A stays at the last few pillars' pull-off at every preload (it may
   creep from one pillar to two or three, but there is no linear stage: F~_A = c F~_P needs many
   pillars in contact). c = c0 = 0 by this threshold; where F~_A creeps, the secant through its
-  half point (``c_res``) is the uncertainty of that zero in the alpha/beta fit.
+  half point (``c_res``) is how loosely that zero holds (lost groups stay out of the alpha/beta
+  line: :mod:`.alphabeta`).
 * *rise not resolved*: F~_A at the smallest preload reached is already at half the plateau or
   more (``F~_A,0 >= P/2``: every level in the plateau set is the extreme case) and above the
   few-pillar floor. The linear stage lies below the smallest preload, so c is only bounded:
@@ -366,7 +367,7 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
         notes.append(f"adhesion lost: plateau F~_A = {P:.3g}, within {FEW_PILLARS:g} pillars' "
                      f"pull-off ({few:.3g}; one pillar: {floor:.3g})"
                      + (f"; it creeps from {y0:.3g} (a secant of {c_would:.3g} through its half "
-                        "point, the uncertainty of c = 0 in the fit)" if y0 < 0.5 * P else ""))
+                        "point: how loosely its c = 0 holds)" if y0 < 0.5 * P else ""))
         return Reading(P, plateau_state, x0, int(members.size), 0.0, 0.0, x0, y0, nan, c_detect,
                        len(lv), 0, top_lo, top_hi, notes, list(notes), state=LOST, c_stage=0.0,
                        c_chord=0.0, c_res=c_would if y0 < 0.5 * P else nan, **base)
