@@ -305,3 +305,20 @@ def test_the_crossing_compares_the_same_brushes_where_seeds_auto_ran_fewer_at_on
     pts = _brushes({1.0: (1.3, range(6)), 1.2: (0.8, range(10))}, w)
     st = study_k(1.0, pts, n_boot=60, floor=FLOOR)
     assert st.loss.matched == (10, 6) and st.sigma_loss == pytest.approx(truth, rel=1e-3)
+
+
+def test_a_line_without_a_zero_is_said_so_where_its_relation_is_stated():
+    # beta consistent with 0: the page shows no zero; the relation column may still say the
+    # line gives c > 0 where adhesion is lost, but never "alpha/beta's zero - lies above"
+    from types import SimpleNamespace
+
+    from fibril_hpc.campaign.laws.verdict import (LawReason, LawState, Relation,
+                                                  RelationReason, Verdict, ZeroReason, ZeroState)
+
+    v = Verdict(LawState.FITTED, LawReason.NONE, ZeroState.NONE, ZeroReason.BETA_ZERO,
+                Relation.ABOVE, RelationReason.NONE, (0.713, 1.49), (5.94, math.inf))
+    st = SimpleNamespace(verdict=v, ab=SimpleNamespace(sigma_c=math.nan))
+    why = verdict_text.relation_why(st)
+    assert why.startswith("the line shows no zero (beta consistent with 0)")
+    assert "above 5.94, beyond the measured loss, span (0.713, 1.49]" in why
+    assert "c > 0 where adhesion is lost" in why and "—" not in why

@@ -119,6 +119,15 @@ def relation_why(st) -> str:
     not fitted or the loss not measured: said elsewhere)."""
     v = st.verdict
     zero = f"alpha/beta's zero {fmt_ci(st.ab.sigma_c, v.zero_ci)}"
+    if v.relation in RELATION_WORDS and v.zero_reason == ZeroReason.BETA_ZERO:
+        # no zero shown (beta consistent with 0), but wherever the line could reach 0 is beyond
+        # the measured loss: it still gives c > 0 where adhesion is lost
+        a, b = v.zero_ci
+        side = (f"above {a:.3g}" if v.relation == Relation.ABOVE else f"below {b:.3g}")
+        what = ("it still gives c > 0 where adhesion is lost" if v.relation == Relation.ABOVE
+                else "it reaches 0 where the brush still holds")
+        return (f"the line shows no zero (beta consistent with 0); if it reaches 0 at all, it is "
+                f"{side}, beyond the measured loss, span {_span(st)}: {what}")
     if v.relation in RELATION_WORDS:
         where = {Relation.WITHIN: "overlaps", Relation.ABOVE: "lies above",
                  Relation.BELOW: "lies below"}[v.relation]
