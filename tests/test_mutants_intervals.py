@@ -59,6 +59,12 @@ def test_seed_replicates_resample_the_distinct_labels():
     b = iv.seed_replicates([1, 2, 3, 4], lambda s: float(np.mean(s)), 30, rng_seed=5)
     c = iv.seed_replicates([1, 2, 3, 4], lambda s: float(np.mean(s)), 30)
     assert np.array_equal(a, b) and not np.array_equal(a, c)
+    d = iv.seed_replicates([1, 2, 3, 4], lambda s: float(np.mean(s)), 30, rng_seed=0)
+    assert np.array_equal(c, d)
+    # numpy's floating-point errors of the statistic are ignored, whatever the caller's setting
+    with np.errstate(all="raise"):
+        r = iv.seed_replicates([1, 2, 3], lambda s: np.float64(1.0) / (np.float64(s[0]) - 1), 20)
+    assert np.isinf(r).any()
 
 
 # ---------------------------------------------------------------- paired_replicates
@@ -121,6 +127,16 @@ def test_paired_replicates_need_a_set_of_two_and_a_resample():
     a = iv.paired_replicates([[1, 2, 3]], lambda p: float(np.mean(p[0])), 20, rng_seed=4)
     assert not np.array_equal(a, iv.paired_replicates([[1, 2, 3]],
                                                       lambda p: float(np.mean(p[0])), 20))
+    assert np.array_equal(iv.paired_replicates([[1, 2, 3]], lambda p: float(np.mean(p[0])), 20),
+                          iv.paired_replicates([[1, 2, 3]], lambda p: float(np.mean(p[0])), 20,
+                                               rng_seed=0))
+    # replicates are numbers: a statistic's integers come back as floats, its None as NaN
+    r = iv.paired_replicates([[1, 2, 3], [2, 3]], lambda p: [len(p[0]), None], 5)
+    assert r.dtype == float and np.all(r[0] == 3.0) and np.all(np.isnan(r[1]))
+    with np.errstate(all="raise"):
+        r = iv.paired_replicates([[1, 2, 3]], lambda p: np.float64(1.0) / (np.float64(p[0][0]) - 1),
+                                 20)
+    assert np.isinf(r).any()
 
 
 # ---------------------------------------------------------------- percentile_interval
@@ -156,6 +172,27 @@ def test_an_end_interpolated_towards_an_unbounded_replicate_is_unbounded():
     assert math.isfinite(hi) and hi > 1e297
     lo, hi = iv.percentile_interval([-1e299] + list(np.linspace(1.0, 2.0, 39)))
     assert math.isfinite(lo) and lo < -1e297
+    # 41 replicates: the 97.5th percentile is the 40th exactly, finite beside an inf 41st
+    r = list(np.linspace(1.0, 2.0, 40))
+    assert iv.percentile_interval(r + [math.inf])[1] == 2.0
+    assert iv.percentile_interval([-math.inf] + r)[0] == 1.0
+    # 120 replicates: the 2.5th percentile lies between the 3rd and 4th; three at -inf
+    r = list(np.linspace(1.0, 2.0, 117))
+    assert iv.percentile_interval([-math.inf] * 3 + r)[0] == -math.inf
+    assert math.isfinite(iv.percentile_interval([-math.inf] * 2 + r + [5.0])[0])
+    assert iv.percentile_interval(r + [math.inf] * 3)[1] == math.inf
+    assert math.isfinite(iv.percentile_interval([0.0] + r + [math.inf] * 2)[1])
+
+
+def test_when_most_replicates_are_unbounded_both_ends_are():
+    # nearly every replicate at +inf: the lower end lies between unbounded ones (or towards
+    # one), not at a huge number
+    assert iv.percentile_interval([math.inf] * 5) == (math.inf, math.inf)
+    assert iv.percentile_interval([1.0] + [math.inf] * 50) == (math.inf, math.inf)
+    assert iv.percentile_interval([-math.inf] * 5) == (-math.inf, -math.inf)
+    assert iv.percentile_interval([-math.inf] * 50 + [1.0]) == (-math.inf, -math.inf)
+    lo, hi = iv.percentile_interval([1.0] * 3 + [math.inf] * 37)
+    assert lo == pytest.approx(1.0) and hi == math.inf
 
 
 # ---------------------------------------------------------------- widening
@@ -174,6 +211,7 @@ def test_the_small_sample_factor_is_student_t_over_the_normal_on_the_unbiased_sd
 def test_the_interval_is_widened_about_its_value_its_infinite_ends_stay():
     f = iv.small_sample_factor(4)
     assert iv.expanded(2.0, (1.5, 3.0), 4) == pytest.approx((2.0 - 0.5 * f, 2.0 + f))
+    assert iv.expanded(2.0, (0.0, 6.0), 4) == pytest.approx((2.0 - 2 * f, 2.0 + 4 * f))
     g = iv.small_sample_factor(4, 0.8)
     assert iv.expanded(2.0, (1.5, 3.0), 4, level=0.8) == pytest.approx((2.0 - 0.5 * g, 2.0 + g))
     assert iv.expanded(2.0, (-math.inf, 3.0), 4) == pytest.approx((-math.inf, 2.0 + f))

@@ -239,3 +239,27 @@ def test_an_unbounded_interval_makes_the_span_unbounded_on_that_side():
            cis=[(1.5, 2.5), (0.4, 0.6)])
     assert m.ci[1] == math.inf and m.another[1] == math.inf and m.span[1] == math.inf
     assert m.span[0] == pytest.approx(min(1.0, m.another[0]))
+
+
+def test_a_crossing_at_an_end_of_the_bracket_stays_inside_it_exactly():
+    # the lost group exactly at the threshold: the crossing is hi itself, not hi + an ulp
+    # (exp(log lo + log(hi / lo)) rounds above 1.0 here)
+    assert loss.crossing(0.1, 1.0, 2.0, 1.0, THR) == 1.0
+    assert loss.crossing(0.1, 0.35, 2.0, 1.0, THR) == 0.35
+    assert loss.crossing(0.1, 1.0, 2.0, 1.0, THR) <= 1.0
+
+
+def test_a_loss_below_the_first_held_group_does_not_bound_the_span():
+    # a lost group below the bracket (before any group held) is not where adhesion is gone
+    m = _m([0.5, 1.0, 2.0], [LOST, RESOLVED, LOST], [0.5, 2.0, 0.5],
+           [(0.4, 0.6), (1.5, 2.5), (0.4, 0.6)])
+    assert m.bracket == (1.0, 2.0) and m.span == (1.0, 2.0)
+    m = _m([0.5, 1.0, 2.0], [LOST, RESOLVED, LOST], [0.5, 2.0, 0.5],
+           [(0.4, 0.6), (1.5, 2.5), (0.4, 1.5)])
+    assert m.span == (1.0, math.inf)
+
+
+def test_no_loss_spans_from_the_last_group_when_it_holds_for_certain():
+    m = _m([0.5, 1.0, 2.0], [RESOLVED, RESOLVED, UNRESOLVED], [2.0, 2.0, 2.0],
+           [(1.5, 2.5)] * 3)
+    assert m.kind == loss.NO_LOSS and m.span == (2.0, math.inf)
