@@ -59,6 +59,9 @@ SCOPE = {
     "fibril_hpc/campaign/laws/loss.py": ["tests/test_mutants_loss.py",
                                          "tests/test_report_loss.py"],
     "fibril_hpc/campaign/laws/intervals.py": ["tests/test_mutants_intervals.py"],
+    "fibril_hpc/campaign/laws/study.py": ["tests/test_mutants_study.py", "tests/test_report_loss.py",
+                                          "tests/test_report_laws.py",
+                                          "tests/test_report_verdict.py"],
 }
 
 #: mutmut's exit-code meaning (mutmut.stats.status_by_exit_code), grouped for the table

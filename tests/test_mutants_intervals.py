@@ -193,6 +193,14 @@ def test_when_most_replicates_are_unbounded_both_ends_are():
     assert iv.percentile_interval([-math.inf] * 50 + [1.0]) == (-math.inf, -math.inf)
     lo, hi = iv.percentile_interval([1.0] * 3 + [math.inf] * 37)
     assert lo == pytest.approx(1.0) and hi == math.inf
+    # 30 replicates: the lower end lies between the one finite and the first +inf
+    assert iv.percentile_interval([1.0] + [math.inf] * 29) == (math.inf, math.inf)
+    assert iv.percentile_interval([-math.inf] * 29 + [1.0]) == (-math.inf, -math.inf)
+    # 120: the 2.5th percentile lies between the 3rd and the 4th, finite beside an inf 5th
+    lo, hi = iv.percentile_interval([1.0, 2.0, 3.0, 4.0] + [math.inf] * 116)
+    assert lo == pytest.approx(3.975) and hi == math.inf
+    # 101: the 97.5th lies between the 98th (-inf) and the 99th
+    assert iv.percentile_interval([-math.inf] * 98 + [1.0, 2.0, 3.0])[1] == -math.inf
 
 
 # ---------------------------------------------------------------- widening
