@@ -201,3 +201,233 @@ def test_why_a_group_is_out_of_the_fit():
     assert sd._out(1.0, _r(c=math.nan)) == O.NO_C
     assert sd._out(1.0, _r(c=math.inf)) == O.NO_C
     assert sd._out(1e-9, _r()) == O.NONE
+
+
+def test_beta_is_zero_judges_beta_and_its_interval():
+    def st(beta, ci, alpha=1.0, alpha_ci=(0.5, 1.5)):
+        return SimpleNamespace(ab=SimpleNamespace(beta=beta, alpha=alpha), beta_ci=ci,
+                               alpha_ci=alpha_ci)
+
+    assert not sd.beta_is_zero(st(1.0, (0.5, 1.5)))
+    assert sd.beta_is_zero(st(1.0, (-0.1, 1.5)))
+    assert sd.beta_is_zero(st(-1.0, (-1.5, -0.5), alpha=-1.0, alpha_ci=(0.5, 1.5)))
+    assert not sd.beta_is_zero(st(1.0, (0.5, 1.5), alpha=-1.0, alpha_ci=(-2.0, 1.5)))
+
+
+def _tanh_points(k_scale, sigmas, seeds=4):
+    """{sigma~: points}: F~_A = P tanh(F~_P / 0.1) (c depends on the half fraction), P falling
+    with sigma~ past the loss threshold; seed s scales P by 1 + 0.05 s."""
+    out = {}
+    for s in sigmas:
+        P = k_scale * LOSS * 3.0 * math.exp(-2.0 * s)
+        rows = []
+        for seed in range(seeds):
+            p_s = P * (1 + 0.05 * seed)
+            rows += [(seed, x, x, max(FLOOR, p_s * math.tanh(x / 0.1))) for x in PRE]
+        out[s] = tuple(np.array(c, dtype=float) for c in zip(*rows))
+    return out
+
+
+def _same(a, b):
+    return np.allclose(np.asarray(a, dtype=float), np.asarray(b, dtype=float), equal_nan=True,
+                       rtol=1e-12, atol=0.0)
+
+
+def test_the_campaign_study_is_each_k_studied_alone_stiff_first():
+    sig = (0.2, 0.4, 0.6, 0.8)
+    by_k = {1.0: _tanh_points(1.0, sig), 0.1: _tanh_points(2.0, sig)}
+    points = {(k, s): p for k, g in by_k.items() for s, p in g.items()}
+    kw = dict(n_boot=12, rng_seed=3, half=0.4, floor=FLOOR, lost="floor")
+    got = sd.study(points, **kw)
+    assert list(got) == [1.0, 0.1]
+    for k, st in got.items():
+        want = sd.study_k(k, by_k[k], **kw)
+        assert st.k_tilde == k and st.n_resamples == 12
+        assert _same([g.reading.c for g in st.groups], [g.reading.c for g in want.groups])
+        assert _same([g.c_ci for g in st.groups], [g.c_ci for g in want.groups])
+        assert _same(st.loss.ci + st.alpha_ci, want.loss.ci + want.alpha_ci)
+        assert st.ab.lost == "floor" and st.loss.threshold == pytest.approx(3 * FLOOR)
+    # the defaults are study_k's
+    got = sd.study(points, n_boot=12)
+    want = sd.study_k(1.0, by_k[1.0], n_boot=12)
+    assert _same([g.c_ci for g in got[1.0].groups], [g.c_ci for g in want.groups])
+    assert got[1.0].ab.lost == sd.LOST_MODE
+    assert sd.study({}) == {}
+
+
+def _reconstructed(points, n_boot, rng_seed, floor):
+    """The groups' intervals from the module text: one seed_replicates over the labels (every
+    group holds them all), each group read on the resample: plateau, c, c0."""
+    from fibril_hpc.campaign.laws import intervals as iv
+    from fibril_hpc.campaign.laws.reading import read_group
+
+    sig = sorted(points)
+    labels = sorted(set(points[sig[0]][0].tolist()))
+
+    def stat(picked):
+        out = []
+        for s in sig:
+            r = read_group(*sd._resample(points[s], picked), floor=floor)
+            out += [r.plateau, r.c, r.c0]
+        return np.array(out)
+
+    reps = iv.seed_replicates(labels, stat, n_boot, rng_seed)
+    want = []
+    for i, s in enumerate(sig):
+        r = read_group(*points[s], floor=floor)
+        n = len(labels)
+        want.append(dict(
+            plateau_ci=sd._nonneg(iv.expanded(r.plateau, iv.percentile_interval(reps[3 * i]), n)),
+            c_ci=sd._nonneg(iv.expanded(r.c, iv.percentile_interval(reps[3 * i + 1]), n)),
+            c0_ci=sd._nonneg(iv.expanded(r.c0, iv.percentile_interval(reps[3 * i + 2]), n)),
+            c_sd=iv.replicate_sd(reps[3 * i + 1])))
+    return want
+
+
+def test_each_groups_intervals_come_from_its_own_rows_of_one_bootstrap():
+    pts = _tanh_points(1.0, (0.2, 0.4, 0.6, 0.8), seeds=5)
+    for rng_seed in (0, 7):
+        st = sd.study_k(0.5, pts, n_boot=15, rng_seed=rng_seed, floor=FLOOR)
+        want = _reconstructed(pts, 15, rng_seed, FLOOR)
+        assert st.ci_kind == sd.CIKind.SAME_SEEDS and st.n_labels == 5 and st.min_seeds == 5
+        for g, w in zip(st.groups, want):
+            assert g.k_tilde == 0.5 and isinstance(g.k_tilde, float) and g.n_seeds == 5
+            for key, v in w.items():
+                assert _same(getattr(g, key), v), (rng_seed, g.sigma_tilde, key)
+    # the default stream is rng_seed 0
+    st = sd.study_k(0.5, pts, n_boot=15, floor=FLOOR)
+    assert _same([g.c_ci for g in st.groups], [w["c_ci"] for w in _reconstructed(pts, 15, 0,
+                                                                                 FLOOR)])
+
+
+def test_the_half_fraction_reaches_the_chord():
+    from fibril_hpc.campaign.laws.reading import read_group
+
+    pts = _tanh_points(1.0, (0.2, 0.4))
+    st = sd.study_k(1.0, pts, n_boot=0, half=0.3, floor=FLOOR)
+    for g in st.groups:
+        want = read_group(*pts[g.sigma_tilde], half=0.3, floor=FLOOR).c_chord
+        assert g.reading.c_chord == pytest.approx(want, rel=1e-12)
+        assert want != pytest.approx(read_group(*pts[g.sigma_tilde], floor=FLOOR).c_chord)
+
+
+def test_how_the_intervals_were_made_is_said():
+    pts = _tanh_points(1.0, (0.2, 0.4), seeds=2)
+    assert sd.study_k(1.0, pts, n_boot=5, floor=FLOOR).ci_kind == sd.CIKind.SAME_SEEDS
+    assert sd.study_k(1.0, pts, n_boot=0, floor=FLOOR).ci_kind == sd.CIKind.OFF
+    one = _tanh_points(1.0, (0.2, 0.4), seeds=1)
+    st = sd.study_k(1.0, one, n_boot=5, floor=FLOOR)
+    assert st.ci_kind == sd.CIKind.ONE_SEED and st.n_resamples == 0
+    mixed = dict(pts)
+    mixed[0.4] = _tanh_points(1.0, (0.4,), seeds=4)[0.4]
+    st = sd.study_k(1.0, mixed, n_boot=5, floor=FLOOR)
+    assert st.ci_kind == sd.CIKind.PAIRED_MIXED and st.n_labels == 4 and st.min_seeds == 2
+    assert st.n_resamples == 5
+
+
+def test_the_fit_points_and_their_sd():
+    def g(sigma, in_fit, c, c_sd, c_detect, c_res, n):
+        return SimpleNamespace(sigma_tilde=sigma, in_fit=in_fit, c_sd=c_sd, n_seeds=n,
+                               reading=SimpleNamespace(c=c, c_detect=c_detect, c_res=c_res))
+
+    gs = [g(0.1, True, 2.0, 0.3, 0.1, 0.4, 5), g(0.2, False, 1.0, 0.1, 0.1, 0.1, 4),
+          g(0.3, True, 1.0, 0.05, 0.2, math.nan, 3), g(0.4, True, 0.5, math.nan, 0.1, 0.1, 6),
+          g(0.5, True, 0.0, 0.0, 0.01, 0.02, 7)]
+    s, c, sdev, n = sd._ab_points(gs)
+    assert s == [0.1, 0.3, 0.4, 0.5] and c == [2.0, 1.0, 0.5, 0.0] and n == [5, 3, 6, 7]
+    assert sdev[0] == pytest.approx(0.5) and sdev[1] == pytest.approx(0.2)
+    assert math.isnan(sdev[2]) and sdev[3] == pytest.approx(math.hypot(0.01, 0.02))
+    s, c, sdev2, n = sd._ab_points(gs, [9.0, 8.0, 7.0, 6.0])
+    assert c == [9.0, 8.0, 7.0, 6.0] and _same(sdev, sdev2)
+
+
+def _law_points(sigmas, seeds, beta=0.05, spread=0.6):
+    """{sigma~: points}: a sharp rise of slope c = 10 (1/sigma~ - beta) x a seed factor that
+    tilts with sigma~ (so resamples move alpha and beta apart, some to beta <= 0), plateau
+    8 c x 0.1; ``seeds``: {sigma~: seed labels}."""
+    out = {}
+    for s in sorted(seeds):
+        rows = []
+        if s not in sigmas:             # lost: one pillar's pull-off at every preload
+            rows = [(seed, x, x, FLOOR * (1 + 0.01 * seed)) for seed in seeds[s] for x in PRE]
+            out[s] = tuple(np.array(v, dtype=float) for v in zip(*rows))
+            continue
+        for seed in seeds[s]:
+            f = 1 + spread * (seed - 2) * (s - 0.5)
+            c = 10 * (1 / s - beta) * f * LOSS
+            p = 0.8 * c
+            rows += [(seed, x, x, min(max(FLOOR, c * x), p)) for x in PRE]
+        out[s] = tuple(np.array(v, dtype=float) for v in zip(*rows))
+    return out
+
+
+def _ab_by_hand(pts, n_boot, rng_seed, floor, lost):
+    """alpha, beta and alpha/beta with their intervals, from the module text."""
+    from fibril_hpc.campaign.laws import intervals as iv
+    from fibril_hpc.campaign.laws.alphabeta import fit_alpha_beta, t_interval
+    from fibril_hpc.campaign.laws.reading import read_group
+
+    sig = sorted(pts)
+    sets = [sorted(set(pts[s][0].tolist())) for s in sig]
+    uneven = any(x != sets[0] for x in sets)
+
+    def stat(picked):
+        out = []
+        for i, s in enumerate(sig):
+            r = read_group(*sd._resample(pts[s], picked[i] if uneven else picked), floor=floor)
+            out += [r.plateau, r.c, r.c0]
+        return np.array(out)
+
+    labels = sorted(set().union(*map(set, sets)))
+    reps = (iv.paired_replicates(sets, stat, n_boot, rng_seed) if uneven
+            else iv.seed_replicates(labels, stat, n_boot, rng_seed))
+    reads = [read_group(*pts[s], floor=floor) for s in sig]
+    fit = [i for i, (s, r) in enumerate(zip(sig, reads)) if sd._out(s, r) == sd.OutReason.NONE]
+    c_sd = [iv.replicate_sd(reps[3 * i + 1]) for i in range(len(sig))]
+    sdev = [math.hypot(max(c_sd[i], reads[i].c_detect),
+                       reads[i].c_res if math.isfinite(reads[i].c_res) else 0.0) for i in fit]
+    x = [sig[i] for i in fit]
+    ns = [len(sets[i]) for i in fit]
+    ab = fit_alpha_beta(x, [reads[i].c for i in fit], sdev, lost=lost, n_seeds=ns)
+    abr = []
+    for b in range(n_boot):
+        f = fit_alpha_beta(x, [reps[3 * i + 1, b] for i in fit], sdev, lost=lost, n_seeds=ns)
+        abr.append((f.alpha, f.beta, f.alpha / f.beta if f.beta > 0 and f.alpha > 0
+                    else (math.inf if f.ok and f.beta <= 0 else math.nan)))
+    abr = np.array(abr).T
+    n_l = min(len(sets[i]) for i in fit if reads[i].c > 0)
+    sc = any(c_sd[i] > 0 for i in fit if reads[i].c > 0)
+    a = sd._spread(iv.expanded(ab.alpha, iv.percentile_interval(abr[0]), n_l), sc)
+    b = sd._spread(iv.expanded(ab.beta, iv.percentile_interval(abr[1]), n_l), sc)
+    z = sd._spread(sd._nonneg(iv.expanded(ab.sigma_c, iv.percentile_interval(abr[2]), n_l)), sc)
+    if ab.poor:
+        ca, cb = t_interval(ab.alpha, ab.alpha_se, ab.dof), t_interval(ab.beta, ab.beta_se, ab.dof)
+        a, b = (min(a[0], ca[0]), max(a[1], ca[1])), (min(b[0], cb[0]), max(b[1], cb[1]))
+    return ab, a, b, z, float(np.mean(np.isinf(abr[2]))), len(labels), min(map(len, sets))
+
+
+@pytest.mark.parametrize("uneven,lost", [(False, "out"), (True, "out"), (True, "floor")])
+def test_alpha_beta_and_their_intervals_against_the_module_text(uneven, lost):
+    sig = (0.3, 0.5, 0.7, 0.9, 1.1)
+    seeds = {s: range(5) for s in sig + (1.5,)}       # lost at 1.5
+    if uneven:          # seeds: auto: fewer seeds where c is largest, more at the end
+        seeds[0.3] = range(3)
+        seeds[1.1] = range(7)
+        seeds[1.5] = range(2)
+    pts = _law_points(sig, seeds)
+    st = sd.study_k(2.0, pts, n_boot=40, rng_seed=5, floor=FLOOR, lost=lost)
+    ab, a, b, z, share, n_labels, min_seeds = _ab_by_hand(pts, 40, 5, FLOOR, lost)
+    assert ab.ok and st.ab.alpha == pytest.approx(ab.alpha, rel=1e-12)
+    assert st.groups[-1].reading.state == LOST and st.groups[-1].in_fit
+    assert st.ab.beta == pytest.approx(ab.beta, rel=1e-12) and st.ab.lost == lost
+    assert _same(st.alpha_ci, a) and _same(st.beta_ci, b) and _same(st.sigma_c_ci, z)
+    assert st.unbounded_share == pytest.approx(share)
+    assert 0 < share < 0.5 if lost == "out" else share == 0.0
+    assert (st.n_labels, st.min_seeds, st.n_resamples) == (n_labels, min_seeds, 40)
+    assert st.k_tilde == 2.0 and not st.ab_from_cov and st.widened_poor == ab.poor
+    # without resamples: the fit's own Student-t intervals
+    from fibril_hpc.campaign.laws.alphabeta import t_interval
+    st = sd.study_k(2.0, pts, n_boot=0, floor=FLOOR)
+    assert st.ab_from_cov and st.n_resamples == 0
+    assert _same(st.alpha_ci, t_interval(st.ab.alpha, st.ab.alpha_se, st.ab.dof))
+    assert _same(st.beta_ci, t_interval(st.ab.beta, st.ab.beta_se, st.ab.dof))
