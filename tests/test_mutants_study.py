@@ -94,6 +94,12 @@ def test_the_crossing_is_read_over_the_same_brushes_in_the_data_and_every_replic
     assert st.sigma_loss_ci[0] < st.sigma_loss < st.sigma_loss_ci[1]
     assert st.loss.n_seeds == 4
     # the groups' own seed means would cross elsewhere
+    # each seed's own crossing: unclipped (weak seeds lie below the threshold at both ends)
+    both = sorted(set(held) & set(lost))
+    assert [k for k, _ in st.loss.per_seed] == both
+    for k, v in st.loss.per_seed:
+        assert v == pytest.approx(_truth(1.3 * w[k], 0.8 * w[k]), rel=1e-6)
+    assert min(v for _, v in st.loss.per_seed) < 1.0 or max(v for _, v in st.loss.per_seed) > 1.2
     own = (_truth(1.3 * mean_all, 0.8 * mean_few) if fewer_at == "lost"
            else _truth(1.3 * mean_few, 0.8 * mean_all))
     assert own != pytest.approx(st.sigma_loss, rel=2e-3)
@@ -134,6 +140,15 @@ def test_a_zero_width_interval_from_seeds_that_scatter_is_no_interval():
     sd._measure_loss(st, np.vstack([0.5 * k, np.full(30, 0.5)]), 1 / 3)
     assert st.loss.ci[0] < st.loss.sigma < st.loss.ci[1]
     assert st.loss.matched == ()
+    # every replicate at or below the threshold and rising: all cross at 0, a zero-width
+    # interval from a plateau that scatters (by less than 1)
+    sd._measure_loss(st, np.vstack([np.array([0.4, 0.5, 0.6] * 10), np.full(30, 0.9)]), 1 / 3)
+    assert all(math.isnan(v) for v in st.loss.ci)
+    # the groups' plateau intervals say which states are certain
+    gs[1].plateau_ci = (0.4, 1.2)
+    sd._measure_loss(st, None, 1 / 3)
+    assert st.loss.uncertain == (1.2,) and st.loss.span == (1.0, math.inf)
+    gs[1].plateau_ci = (0.4, 0.6)
     # no replicates: no interval, no check
     sd._measure_loss(st, None, 1 / 3)
     assert all(math.isnan(v) for v in st.loss.ci) and st.loss.sigma == pytest.approx(
@@ -341,8 +356,9 @@ def test_the_fit_points_and_their_sd():
     assert c == [9.0, 8.0, 7.0, 6.0] and _same(sdev, sdev2)
 
 
-def _law_points(sigmas, seeds, beta=0.05, spread=0.6):
-    """{sigma~: points}: a sharp rise of slope c = 10 (1/sigma~ - beta) x a seed factor that
+def _law_points(sigmas, seeds, beta=0.05, spread=0.6, bent=False):
+    """{sigma~: points}: a sharp rise of slope c = 10 (1/sigma~ - beta) (x 1.3, 0.8 in turn where
+    ``bent``: no line fits) x a seed factor that
     tilts with sigma~ (so resamples move alpha and beta apart, some to beta <= 0), plateau
     8 c x 0.1; ``seeds``: {sigma~: seed labels}."""
     out = {}
@@ -354,7 +370,8 @@ def _law_points(sigmas, seeds, beta=0.05, spread=0.6):
             continue
         for seed in seeds[s]:
             f = 1 + spread * (seed - 2) * (s - 0.5)
-            c = 10 * (1 / s - beta) * f * LOSS
+            zig = 1.0 if not bent else (1.3 if round(10 * s) % 4 == 1 else 0.8)
+            c = 10 * (1 / s - beta) * zig * f * LOSS
             p = 0.8 * c
             rows += [(seed, x, x, min(max(FLOOR, c * x), p)) for x in PRE]
         out[s] = tuple(np.array(v, dtype=float) for v in zip(*rows))
@@ -406,15 +423,16 @@ def _ab_by_hand(pts, n_boot, rng_seed, floor, lost):
     return ab, a, b, z, float(np.mean(np.isinf(abr[2]))), len(labels), min(map(len, sets))
 
 
-@pytest.mark.parametrize("uneven,lost", [(False, "out"), (True, "out"), (True, "floor")])
-def test_alpha_beta_and_their_intervals_against_the_module_text(uneven, lost):
+@pytest.mark.parametrize("uneven,lost,bent", [(False, "out", False), (True, "out", False),
+                                               (True, "floor", False), (False, "out", True)])
+def test_alpha_beta_and_their_intervals_against_the_module_text(uneven, lost, bent):
     sig = (0.3, 0.5, 0.7, 0.9, 1.1)
     seeds = {s: range(5) for s in sig + (1.5,)}       # lost at 1.5
     if uneven:          # seeds: auto: fewer seeds where c is largest, more at the end
         seeds[0.3] = range(3)
         seeds[1.1] = range(7)
         seeds[1.5] = range(2)
-    pts = _law_points(sig, seeds)
+    pts = _law_points(sig, seeds, spread=0.6 if not bent else 0.02, bent=bent)
     st = sd.study_k(2.0, pts, n_boot=40, rng_seed=5, floor=FLOOR, lost=lost)
     ab, a, b, z, share, n_labels, min_seeds = _ab_by_hand(pts, 40, 5, FLOOR, lost)
     assert ab.ok and st.ab.alpha == pytest.approx(ab.alpha, rel=1e-12)
@@ -422,7 +440,11 @@ def test_alpha_beta_and_their_intervals_against_the_module_text(uneven, lost):
     assert st.ab.beta == pytest.approx(ab.beta, rel=1e-12) and st.ab.lost == lost
     assert _same(st.alpha_ci, a) and _same(st.beta_ci, b) and _same(st.sigma_c_ci, z)
     assert st.unbounded_share == pytest.approx(share)
-    assert 0 < share < 0.5 if lost == "out" else share == 0.0
+    if bent:        # c bends away from the line, seeds agree: a poor fit, widened
+        assert ab.poor and st.widened_poor is True
+    else:
+        assert 0 < share < 0.5 if lost == "out" else share == 0.0
+        assert not ab.poor and st.widened_poor is False
     assert (st.n_labels, st.min_seeds, st.n_resamples) == (n_labels, min_seeds, 40)
     assert st.k_tilde == 2.0 and not st.ab_from_cov and st.widened_poor == ab.poor
     # without resamples: the fit's own Student-t intervals
@@ -431,3 +453,14 @@ def test_alpha_beta_and_their_intervals_against_the_module_text(uneven, lost):
     assert st.ab_from_cov and st.n_resamples == 0
     assert _same(st.alpha_ci, t_interval(st.ab.alpha, st.ab.alpha_se, st.ab.dof))
     assert _same(st.beta_ci, t_interval(st.ab.beta, st.ab.beta_se, st.ab.dof))
+
+
+def test_identical_seeds_give_point_intervals_not_none():
+    # every seed the same brush: no scatter, so a zero-width interval is the answer (4 seeds
+    # and 16 resamples: their means are exact, the sd exactly 0)
+    sig = (0.3, 0.5, 0.7, 0.9)
+    pts = _law_points(sig, {s: range(4) for s in sig}, spread=0.0)
+    st = sd.study_k(1.0, pts, n_boot=16, floor=FLOOR)
+    assert all(g.c_sd == 0.0 for g in st.groups)
+    assert st.alpha_ci == pytest.approx((st.ab.alpha, st.ab.alpha), rel=1e-9)
+    assert st.beta_ci == pytest.approx((st.ab.beta, st.ab.beta), rel=1e-9)
