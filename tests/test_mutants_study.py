@@ -464,3 +464,9 @@ def test_identical_seeds_give_point_intervals_not_none():
     assert all(g.c_sd == 0.0 for g in st.groups)
     assert st.alpha_ci == pytest.approx((st.ab.alpha, st.ab.alpha), rel=1e-9)
     assert st.beta_ci == pytest.approx((st.ab.beta, st.ab.beta), rel=1e-9)
+
+
+def test_a_k_without_points_is_no_study():
+    st = sd.study_k(1.0, {}, n_boot=5)
+    assert (st.min_seeds, st.n_labels, st.n_resamples) == (0, 0, 0)
+    assert st.ci_kind == sd.CIKind.ONE_SEED and not st.ab.ok and st.groups == []
