@@ -56,6 +56,12 @@ SCOPE = {
     "fibril_hpc/campaign/analysis/loss_page.py": ["tests/test_mutants_verdict_text.py"],
     "fibril_hpc/campaign/analysis/size_loss_page.py": ["tests/test_mutants_size_loss_page.py"],
     "fibril_hpc/campaign/analysis/headline.py": ["tests/test_mutants_headline.py"],
+    "fibril_hpc/campaign/laws/loss.py": ["tests/test_mutants_loss.py",
+                                         "tests/test_report_loss.py"],
+    "fibril_hpc/campaign/laws/intervals.py": ["tests/test_mutants_intervals.py"],
+    "fibril_hpc/campaign/laws/study.py": ["tests/test_mutants_study.py", "tests/test_report_loss.py",
+                                          "tests/test_report_laws.py",
+                                          "tests/test_report_verdict.py"],
 }
 
 #: mutmut's exit-code meaning (mutmut.stats.status_by_exit_code), grouped for the table

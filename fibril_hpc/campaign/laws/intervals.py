@@ -125,10 +125,20 @@ def percentile_interval(replicates, level: float = LEVEL) -> tuple[float, float]
     r = np.clip(r, -_BIG, _BIG)
     q = (1 - level) / 2
     lo, hi = np.percentile(r, [100 * q, 100 * (1 - q)])
-    # an end interpolated towards an unbounded replicate is unbounded (not a huge number)
+    # an end interpolated towards an unbounded replicate is unbounded (not a huge number),
+    # also where both its neighbours are (most replicates at +inf: the lower end too)
     lo_n = np.percentile(r, 100 * q, method="lower")
     hi_n = np.percentile(r, 100 * (1 - q), method="higher")
-    return (-math.inf if lo_n <= -_BIG else float(lo)), (math.inf if hi_n >= _BIG else float(hi))
+    return _end(lo, lo_n, np.percentile(r, 100 * q, method="higher")), \
+        _end(hi, np.percentile(r, 100 * (1 - q), method="lower"), hi_n)
+
+
+def _end(v: float, below: float, above: float) -> float:
+    """A percentile ``v`` interpolated between the replicates ``below`` and ``above`` (clipped
+    to +-_BIG): -inf where ``below`` is unbounded, +inf where ``above`` is, else ``v``."""
+    if below <= -_BIG:
+        return -math.inf
+    return math.inf if above >= _BIG else float(v)
 
 
 def small_sample_factor(n_seeds: int, level: float = LEVEL) -> float:
