@@ -54,7 +54,7 @@ def _data(studies, **kw):
     d = dict(studies=studies, n_jobs=40, n_failed=0, n_nonfinite=0, meta={},
              brush=(18, 0.16, ""), preset="fast", seeds_auto=None, n_sides=[], n_side=None,
              variant=None, seed_limits=[], size_loss={}, floor_note="", bias=NAN,
-             bias_note="not measured", size=[])
+             bias_note="not measured", size=[], coarse=[])
     d.update(kw)
     return NS(**d)
 
@@ -84,9 +84,10 @@ def test_the_headline_of_a_search():
     lines = hl.headline(_data(studies, meta=meta))
     assert lines == [
         "Where this brush loses adhesion, σ̃_c per k̃ (model-free: the σ̃ where the seed-mean "
-        "plateau falls to 3 pillars' pull-off; lost in: the σ̃ run around it, widened to its "
-        "seed interval and to any σ̃ beside it whose state its seeds leave uncertain), of 324 "
-        "pillars (18 × 18), φ = 0.16, preset fast, 3 seeds per (k̃, σ̃):",
+        "plateau falls to 3 pillars' pull-off; lost in: the σ̃ run around it, widened to any σ̃ "
+        "beside it whose state its seeds leave uncertain, and where none is certain to where "
+        "another seed set as large would measure it), of 324 pillars (18 × 18), φ = 0.16, "
+        "preset fast, 3 seeds per (k̃, σ̃):",
         "k̃ = 1: 1.04, lost in (0.8, 1.3]; k̃ = 0.1: > 2.5 (no loss up to the largest σ̃ run, the "
         "search's limit); k̃ = 0.01: < 0.05 (lost at every σ̃ run); k̃ = 0.001: not measured.",
         "c = α/σ̃ − β (4 k̃): fitted within the seed scatter for k̃ = 1, 0.001; a **poor fit** "

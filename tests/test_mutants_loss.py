@@ -202,7 +202,8 @@ def test_the_interval_is_the_replicates_crossings_widened_for_the_fewer_seeds(n_
     assert m.n_seeds == min(n_seeds)
     assert m.ci == pytest.approx(_expected_ci(1.0, 2.0, reps, s, min(n_seeds)), rel=1e-9)
     assert m.another == pytest.approx(loss.another_set(s, m.ci), rel=1e-12)
-    assert m.span == pytest.approx((min(1.0, m.another[0]), max(2.0, m.another[1])))
+    # both groups count as certain (no plateau interval given): they bound the span
+    assert m.span == (1.0, 2.0)
 
 
 def test_an_interval_reaching_below_0_is_cut_at_0_and_spans_to_it():
@@ -215,7 +216,8 @@ def test_an_interval_reaching_below_0_is_cut_at_0_and_spans_to_it():
                             for a, b in zip(*reps)], [2.5, 97.5])
     assert m.sigma - _t_factor(3) * (m.sigma - lo) < 0
     assert m.ci[1] == pytest.approx(m.sigma + _t_factor(3) * (hi - m.sigma), rel=1e-9)
-    assert m.span[0] == 0.0 and m.span[1] == pytest.approx(max(1.0, m.another[1]))
+    # the smooth limit below and a group lost for certain above bound the span
+    assert m.span == (0.0, 1.0)
 
 
 def test_without_seed_counts_or_replicates_there_is_no_interval():
@@ -236,8 +238,12 @@ def test_an_unbounded_interval_makes_the_span_unbounded_on_that_side():
     rng = np.random.default_rng(4)
     reps = np.vstack([np.full(200, 2.0), np.where(rng.random(200) < 0.5, 3.0, 0.5)])
     m = _m([1.0, 2.0], [RESOLVED, LOST], [2.0, 0.5], reps=reps, n_seeds=(10, 10),
-           cis=[(1.5, 2.5), (0.4, 0.6)])
+           cis=[(1.5, 2.5), (0.4, 3.2)])
     assert m.ci[1] == math.inf and m.another[1] == math.inf and m.span[1] == math.inf
+    # the same replicates with the lost group certain of its state: it bounds the span
+    m = _m([1.0, 2.0], [RESOLVED, LOST], [2.0, 0.5], reps=reps, n_seeds=(10, 10),
+           cis=[(1.5, 2.5), (0.4, 0.6)])
+    assert m.ci[1] == math.inf and m.span == (1.0, 2.0)
     assert m.span[0] == pytest.approx(min(1.0, m.another[0]))
 
 

@@ -35,7 +35,9 @@ HEAD = ["k_tilde", "n_side", "n_pillars", "n_seeds", "k_pillar", "few_threshold"
         "sigma_few_lo", "sigma_few_hi", "few_kind", "pillar_sigma_few", "area_threshold",
         "sigma_area", "sigma_area_lo", "sigma_area_hi", "area_kind", "area_below_floor",
         "pillar_sigma_area", "area_trend", "sigma_zero", "sigma_zero_lo", "sigma_zero_hi",
-        "zero_kind", "p", "p_lo", "p_hi", "p_state"]
+        "zero_kind", "p", "p_lo", "p_hi", "p_state", "few_drift", "few_drift_lo",
+        "few_drift_hi", "few_drift_state", "area_drift", "area_drift_lo", "area_drift_hi",
+        "area_drift_state", "spring_few", "spring_area", "reach_few", "reach_area"]
 
 
 def test_the_size_loss_table():
@@ -55,7 +57,11 @@ def test_the_size_loss_table():
         "area_threshold": "0.1", "sigma_area": "", "sigma_area_lo": "", "sigma_area_hi": "",
         "area_kind": sl.ALL_LOST, "area_below_floor": "true", "pillar_sigma_area": "",
         "area_trend": "", "sigma_zero": "", "sigma_zero_lo": "", "sigma_zero_hi": "",
-        "zero_kind": "", "p": "", "p_lo": "", "p_hi": "", "p_state": ""}
+        "zero_kind": "", "p": "", "p_lo": "", "p_hi": "", "p_state": "", "few_drift": "",
+        "few_drift_lo": "", "few_drift_hi": "", "few_drift_state": "", "area_drift": "",
+        "area_drift_lo": "", "area_drift_hi": "", "area_drift_state": "",
+        "spring_few": repr(sl.pillar_spring(0.61234, 1.0, 8, PHI)), "spring_area": "",
+        "reach_few": repr(sl.pillar_reach(0.61234, 1.0, 8, PHI)), "reach_area": ""}
     assert r12["n_pillars"] == "144" and r12["n_seeds"] == "3" and r12["few_kind"] == sl.NO_LOSS
     assert r12["area_below_floor"] == "false" and r12["sigma_area"] == "0.45678"
     assert r12["pillar_sigma_area"] == repr(sl.pillar_sigma(0.45678, 12, PHI))
@@ -67,20 +73,27 @@ def test_the_size_loss_table():
         "sigma_area_lo": "0.44", "sigma_area_hi": "0.47", "area_kind": sl.BRACKET,
         "area_below_floor": "", "pillar_sigma_area": "inf", "area_trend": sl.STEADY,
         "sigma_zero": "", "sigma_zero_lo": "", "sigma_zero_hi": "", "zero_kind": sl.NO_LOSS,
-        "p": "0.8123", "p_lo": "0.6", "p_hi": "1.1", "p_state": sl.CONSISTENT}
+        "p": "0.8123", "p_lo": "0.6", "p_hi": "1.1", "p_state": sl.CONSISTENT,
+        "few_drift": "", "few_drift_lo": "", "few_drift_hi": "", "few_drift_state": sl.NOT_MEASURED,
+        "area_drift": "", "area_drift_lo": "", "area_drift_hi": "", "area_drift_state": sl.NOT_MEASURED,
+        "spring_few": "inf", "spring_area": "inf", "reach_few": "", "reach_area": ""}
     assert t.page_rows[0] == ["k̃", "n_side", "k/(E* D)", "σ̃ at 3 pillars [CI]", "σ/d_c1 there",
-                              "σ̃ at F̃_A = 0.1 [CI]", "σ/d_c1 there", "note"]
+                              "σ̃ at F̃_A = 0.1 [CI]", "σ/d_c1 there", "k σ/F_c1 there",
+                              "σ/(d_c1 + F_c1/k) there", "note"]
     assert t.page_rows[1] == [
         "1", "8", format(sl.pillar_k(1.0, 8, PHI), ".3g"), "0.612 [0.55, 0.7]",
         format(sl.pillar_sigma(0.61234, 8, PHI), ".3g"), "< 0.2 (below every σ̃ run)", "—",
-        "the per-area threshold is within 3 pillars' pull-off here"]
+        "—", "—", "the per-area threshold is within 3 pillars' pull-off here"]
     assert t.page_rows[2] == [
         "1", "12", format(sl.pillar_k(1.0, 12, PHI), ".3g"), "> 0.9 (not reached)", "—",
-        "0.457 [0.4, 0.5]", format(sl.pillar_sigma(0.45678, 12, PHI), ".3g"), ""]
+        "0.457 [0.4, 0.5]", format(sl.pillar_sigma(0.45678, 12, PHI), ".3g"),
+        format(sl.pillar_spring(0.45678, 1.0, 12, PHI), ".3g"),
+        format(sl.pillar_reach(0.45678, 1.0, 12, PHI), ".3g"), ""]
     assert t.page_rows[3] == [
-        "1", "∞ (P∞)", "∞", "—", "∞", "0.457 [0.44, 0.47]", "∞",
+        "1", "∞ (P∞)", "∞", "—", "∞", "0.457 [0.44, 0.47]", "∞", "∞", "—",
         "P∞ = 0 at σ̃ = > 1 (not reached); per-area crossing over the two largest sizes: "
-        "steady; p = 0.812 [0.6, 1.1] (consistent with 3/4)"]
+        "steady; p = 0.812 [0.6, 1.1] (consistent with 3/4); d ln σ̃ / d ln N at 3 pillars —, "
+        "at F̃_A = 0.1 —"]
     # a crossing not read is a dash; no size: the default threshold in the title
     s.few[0].kind = sl.NOT_READ
     assert slp.table(NS(size_loss={1.0: s})).page_rows[1][3] == "—"
@@ -147,9 +160,10 @@ def test_small_numbers_and_the_other_kinds_of_the_large_brush_row():
     assert t.page_rows[2][6] == format(sl.pillar_sigma(5.4321e-6, 12, PHI), ".3g")
     assert "e-05" in t.page_rows[2][6]
     assert t.page_rows[3][5] == "> 1.23e-05 (not reached)"
-    assert t.page_rows[3][7] == (
+    assert t.page_rows[3][-1] == (
         "P∞ = 0 at σ̃ = 0.612 [0.55, 0.7]; per-area crossing over the two largest sizes: "
-        "steady; p = 1.23e-05 [1e-05, 2e-05] (consistent with 3/4)")
+        "steady; p = 1.23e-05 [1e-05, 2e-05] (consistent with 3/4); d ln σ̃ / d ln N at 3 "
+        "pillars —, at F̃_A = 0.1 —")
     rinf = dict(zip(HEAD, t.csv_rows[-1]))
     assert (rinf["sigma_zero"], rinf["sigma_zero_lo"], rinf["sigma_zero_hi"]) == ("0.61234",
                                                                                   "0.55", "0.7")

@@ -30,8 +30,8 @@ def _g(sigma, state):
 def test_the_larger_of_the_brackets_two_nested_seed_sets_comes_first():
     gs = [_g(0.5, RESOLVED), _g(1.0, RESOLVED), _g(1.2, LOST)]
     ten, six = list(range(10)), list(range(6))
-    assert sd._matched_pair(gs, [six, ten, six]) == (1, 2)
-    assert sd._matched_pair(gs, [ten, six, ten]) == (2, 1)
+    assert sd._matched_pair(gs, [six, ten, six]) == (1, (2,))
+    assert sd._matched_pair(gs, [ten, six, ten]) == (2, (1,))
     assert sd._matched_pair(gs, [six, ten, ten]) is None          # the same seeds
     assert sd._matched_pair(gs, [six, six, [3, 4, 5, 6]]) is None  # not nested
     assert sd._matched_pair(gs, [six, [0, 1], [1, 2]]) is None
@@ -40,7 +40,7 @@ def test_the_larger_of_the_brackets_two_nested_seed_sets_comes_first():
     assert sd._matched_pair([_g(0.5, LOST), _g(1.0, LOST)], [ten, six]) is None
     # the bracket, not the first two groups
     gs = [_g(0.5, RESOLVED), _g(1.0, UNRESOLVED), _g(1.2, UNDETERMINED), _g(1.5, LOST)]
-    assert sd._matched_pair(gs, [ten, six, ten, ten]) == (3, 1)
+    assert sd._matched_pair(gs, [ten, six, ten, ten]) == (3, (1,))
 
 
 def test_the_other_plateau_is_carried_by_the_larger_groups_ratio_on_its_seeds():
@@ -166,7 +166,7 @@ def test_the_carried_replicates_take_the_ratio_replicate_by_replicate():
     ref = 1.3 * LOSS * np.exp(0.05 * rng.standard_normal(60))
     other = 0.4 * LOSS * np.exp(0.05 * rng.standard_normal(60))
     on_other = 0.65 * LOSS * np.exp(0.05 * rng.standard_normal(60))
-    sd._measure_loss(st, np.vstack([ref, other]), FLOOR, (0, 1), 0.65 * LOSS, on_other)
+    sd._measure_loss(st, np.vstack([ref, other]), FLOOR, (0, (1,)), [0.65 * LOSS], [on_other])
     assert st.loss.matched == (8, 4)
     assert st.loss.sigma == pytest.approx(_truth(1.3, 0.8), rel=1e-9)
     from fibril_hpc.campaign.laws import loss as _loss
@@ -176,7 +176,7 @@ def test_the_carried_replicates_take_the_ratio_replicate_by_replicate():
     want = expanded(st.loss.sigma, percentile_interval(rs), 4)
     assert st.loss.ci == pytest.approx(want, rel=1e-9)
     # the replicates left as they were where none are given for the larger on the other's
-    sd._measure_loss(st, np.vstack([ref, other]), FLOOR, (0, 1), 0.65 * LOSS, None)
+    sd._measure_loss(st, np.vstack([ref, other]), FLOOR, (0, (1,)), [0.65 * LOSS], None)
     rs = [_loss.crossing(1.0, 1.2, a, b, 3 * FLOOR, clip=False) for a, b in zip(ref, other)]
     assert st.loss.ci == pytest.approx(expanded(st.loss.sigma, percentile_interval(rs), 4))
 
