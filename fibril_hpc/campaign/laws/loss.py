@@ -65,7 +65,7 @@ class Loss:
 
     kind: str = NOT_READ
     bracket: tuple = NAN2           # (lo, hi]: the point states' bracket, or the one-sided bound
-    span: tuple = NAN2              # the bracket widened by states not certain and the interval
+    span: tuple = NAN2              # the bracket widened by states not certain (module text)
     sigma: float = math.nan         # where the seed-mean plateau crosses the threshold
     ci: tuple = NAN2                # its seed interval (widened for few seeds)
     another: tuple = NAN2           # where another seed set of this size would measure it
@@ -189,5 +189,5 @@ def measure(sigmas, states, plateaus, thr: float, reps=None, n_seeds=(),
     return out
 
 
-__all__ = ["Loss", "measure", "crossing", "another_set", "ANOTHER", "bracket_indices", "BRACKET", "NO_LOSS",
-           "ALL_LOST", "NOT_READ"]
+__all__ = ["Loss", "measure", "crossing", "another_set", "ANOTHER", "bracket_indices", "BRACKET",
+           "NO_LOSS", "ALL_LOST", "NOT_READ"]
