@@ -218,6 +218,23 @@ def fade_campaign(sigma_c, sigmas, seeds, alpha=None, beta=1.0, tau=0.15, m=4.0,
     return out, truth, sigma_h
 
 
+# -- brushes of fixed strength: the same seeds stronger or weaker at every sigma~ ----------------
+
+def strength_campaign(groups: dict, weights: dict) -> dict:
+    """{sigma~: points} of groups {sigma~: (P, seeds)} whose seeds are brushes of fixed strength:
+    seed s holds weights[s] x P loss thresholds, after a resolved rise (F~_A = p_s / 0.1 F~_P up
+    to the plateau, the pillar floor below), preloads 1e-3 .. 10 (13 levels)."""
+    pre = tuple(float(v) for v in np.geomspace(1e-3, 10.0, 13))
+    out = {}
+    for s, (P, seeds) in groups.items():
+        rows = []
+        for seed in seeds:
+            p_s = weights[seed] * P * LOSS
+            rows += [(seed, x, x, min(max(FLOOR, p_s / 0.1 * x), p_s)) for x in pre]
+        out[s] = tuple(np.array(c, dtype=float) for c in zip(*rows))
+    return out
+
+
 # -- whole pillars: the plateau of a finite brush near its loss ----------------------------------
 
 _BRUSHES: dict = {}

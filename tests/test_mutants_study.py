@@ -15,7 +15,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from synthetic_campaigns import FLOOR, LOSS
+from synthetic_campaigns import FLOOR, LOSS, strength_campaign
 
 from fibril_hpc.campaign.laws import study as sd
 from fibril_hpc.campaign.laws.reading import LOST, RESOLVED, UNDETERMINED, UNRESOLVED
@@ -52,18 +52,6 @@ def test_the_other_plateau_is_carried_by_the_larger_groups_ratio_on_its_seeds():
     assert np.isnan(sd._matched(2.0, 0.0, 0.0))
 
 
-def _brushes(groups, weights):
-    """{sigma~: points}: seed s of a group with plateau P (LOSS units) holds w_s P, after a
-    resolved rise (F~_A = p_s / 0.1 F~_P up to the plateau, the pillar floor below)."""
-    out = {}
-    for s, (P, seeds) in groups.items():
-        rows = []
-        for seed in seeds:
-            p_s = weights[seed] * P * LOSS
-            rows += [(seed, x, x, min(max(FLOOR, p_s / 0.1 * x), p_s)) for x in PRE]
-        out[s] = tuple(np.array(c, dtype=float) for c in zip(*rows))
-    return out
-
 
 W = {s: (0.6 if s < 4 else 1.6 - 0.1 * s) for s in range(8)}         # seeds 0-3 weak
 W_HELD = {s: (1.4 if s < 4 else 0.3 + 0.1 * (s - 4)) for s in range(8)}   # seeds 0-3 strong
@@ -80,7 +68,7 @@ def test_the_crossing_is_read_over_the_same_brushes_in_the_data_and_every_replic
     mean_all = np.mean([w[s] for s in big])
     mean_few = np.mean([w[s] for s in small])
     held, lost = (big, small) if fewer_at == "lost" else (small, big)
-    pts = _brushes({0.5: (3.0, big), 1.0: (1.3, held), 1.2: (0.8, lost)}, w)
+    pts = strength_campaign({0.5: (3.0, big), 1.0: (1.3, held), 1.2: (0.8, lost)}, w)
     st = sd.study_k(1.0, pts, n_boot=40, floor=FLOOR)
     assert st.loss.bracket == (1.0, 1.2) and st.loss.matched == (8, 4)
     # the group of four seeds carried to the eight: its plateau as the eight's mean would be
@@ -106,12 +94,12 @@ def test_the_crossing_is_read_over_the_same_brushes_in_the_data_and_every_replic
 
 
 def test_equal_seed_sets_and_no_bootstrap_are_read_as_they_are():
-    pts = _brushes({1.0: (1.3, range(8)), 1.2: (0.8, range(4))}, W)
+    pts = strength_campaign({1.0: (1.3, range(8)), 1.2: (0.8, range(4))}, W)
     st = sd.study_k(1.0, pts, n_boot=0, floor=FLOOR)
     assert st.loss.matched == (8, 4) and all(math.isnan(v) for v in st.loss.ci)
     m = np.mean(list(W.values()))
     assert st.sigma_loss == pytest.approx(_truth(1.3 * m, 0.8 * m), rel=1e-6)
-    pts = _brushes({1.0: (1.3, range(8)), 1.2: (0.8, range(8))}, W)
+    pts = strength_campaign({1.0: (1.3, range(8)), 1.2: (0.8, range(8))}, W)
     st = sd.study_k(1.0, pts, n_boot=30, floor=FLOOR)
     assert st.loss.matched == () and st.sigma_loss == pytest.approx(_truth(1.3 * m, 0.8 * m),
                                                                     rel=1e-6)

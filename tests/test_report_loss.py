@@ -13,7 +13,8 @@ from fibril_hpc.campaign.laws.verdict import Relation, RelationReason, relation
 from fibril_hpc.campaign.laws.reading import LOST, RESOLVED, UNRESOLVED
 from fibril_hpc.campaign.laws.study import study_k
 
-from synthetic_campaigns import FLOOR, LOSS, law_campaign, loss_campaign, loss_plateau
+from synthetic_campaigns import (FLOOR, LOSS, law_campaign, loss_campaign, loss_plateau,
+                                 strength_campaign)
 
 DENSE = tuple(float(v) for v in np.geomspace(0.6, 1.6, 9))      # brackets 1.0 closely
 SHARP = (0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 1.1, 1.4)
@@ -267,19 +268,6 @@ def test_each_seeds_own_crossing_is_said_as_bounds_never_0_or_inf():
         verdict_text.loss_note(SimpleNamespace(loss=m))
 
 
-def _brushes(sigma_plateaus: dict, weights: dict) -> dict:
-    """Points of groups whose seeds are brushes of fixed strength: seed s holds weights[s] x
-    the group's plateau (in LOSS units), after a resolved rise (a kink at F~_P = 0.1)."""
-    pre = tuple(float(v) for v in np.geomspace(1e-3, 10.0, 13))
-    out = {}
-    for s, (P, seeds) in sigma_plateaus.items():
-        rows = []
-        for seed in seeds:
-            p_s = weights[seed] * P * LOSS
-            rows += [(seed, x, x, min(max(FLOOR, p_s / 0.1 * x), p_s)) for x in pre]
-        out[s] = tuple(np.array(c, dtype=float) for c in zip(*rows))
-    return out
-
 
 def test_the_crossing_compares_the_same_brushes_where_seeds_auto_ran_fewer_at_one_end():
     # seeds 0-5 are weak brushes, 6-9 strong ones (the ten-seed mean weighs 1); seeds: auto ran
@@ -288,7 +276,7 @@ def test_the_crossing_compares_the_same_brushes_where_seeds_auto_ran_fewer_at_on
     # at 1.2^(ln 1.3 / ln(1.3/0.8)) = 1.104; a crossing between the two groups' own seed means
     # (ten brushes against six weak ones) would read 1.049.
     w = {s: (0.6 if s < 6 else 1.6) for s in range(10)}
-    pts = _brushes({1.0: (1.3, range(10)), 1.2: (0.8, range(6))}, w)
+    pts = strength_campaign({1.0: (1.3, range(10)), 1.2: (0.8, range(6))}, w)
     st = study_k(1.0, pts, n_boot=60, floor=FLOOR)
     assert st.loss.bracket == (1.0, 1.2) and st.loss.matched == (10, 6)
     assert "ran 10 and 6 seeds: the crossing compares the same 10 brushes" in \
@@ -297,12 +285,12 @@ def test_the_crossing_compares_the_same_brushes_where_seeds_auto_ran_fewer_at_on
     assert st.sigma_loss == pytest.approx(truth, rel=1e-3)
     assert st.sigma_loss_ci[0] <= truth <= st.sigma_loss_ci[1]
     # the same seeds at both ends: nothing to carry over, the plain crossing
-    pts = _brushes({1.0: (1.3, range(10)), 1.2: (0.8, range(10))}, w)
+    pts = strength_campaign({1.0: (1.3, range(10)), 1.2: (0.8, range(10))}, w)
     st = study_k(1.0, pts, n_boot=60, floor=FLOOR)
     assert st.loss.matched == () and st.sigma_loss == pytest.approx(truth, rel=1e-3)
     # more seeds at the lost end (seeds 0-5 strong now): the held group is carried to them
     w = {s: (1.4 if s < 6 else 0.4) for s in range(10)}
-    pts = _brushes({1.0: (1.3, range(6)), 1.2: (0.8, range(10))}, w)
+    pts = strength_campaign({1.0: (1.3, range(6)), 1.2: (0.8, range(10))}, w)
     st = study_k(1.0, pts, n_boot=60, floor=FLOOR)
     assert st.loss.matched == (10, 6) and st.sigma_loss == pytest.approx(truth, rel=1e-3)
 
