@@ -16,6 +16,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from benchmarks.common import graph_gap
 from fibril_hpc import Scene, simulate
 from fibril_hpc.errors import ConfigError
 from fibril_hpc.inputs.options import SolverOptions
@@ -104,22 +105,6 @@ def test_option_is_validated_and_stays_out_of_reference_keys():
                 {"confirm": "local", "cascade": "global"}):
         with pytest.raises(ConfigError, match=f"solver.{next(iter(bad))}"):
             SolverOptions(**bad)
-
-
-def graph_gap(a_d, a_F, b_d, b_F, d_scale, F_scale) -> float:
-    """Largest distance from a point of curve a to the polyline of curve b, in (d / d_scale,
-    F / F_scale): a jump (two points at one d) is a vertical segment, so a curve whose event
-    moved by delta d is delta d / d_scale away there, not the height of the jump."""
-    P = np.column_stack([a_d / d_scale, a_F / F_scale])
-    Q = np.column_stack([b_d / d_scale, b_F / F_scale])
-    if len(Q) == 1:
-        return float(np.hypot(*(P - Q[0]).T).max())
-    A, B = Q[:-1], Q[1:]
-    AB = B - A
-    L2 = np.maximum((AB * AB).sum(1), 1e-300)
-    t = np.clip(((P[:, None, :] - A[None]) * AB[None]).sum(2) / L2[None], 0.0, 1.0)
-    C = A[None] + t[..., None] * AB[None]
-    return float(np.sqrt(((P[:, None, :] - C) ** 2).sum(2)).min(1).max())
 
 
 def assert_close_paths(ref, new):
