@@ -85,13 +85,13 @@ def test_a_record_names_its_brush_size_in_its_stored_scene():
 
 # ------------------------------------------------------------------------------ bad grids
 BAD = [
-    ({"sweep": {"n_side": 0}}, "sweep.n_side", "integers in [1, 200]"),
-    ({"sweep": {"n_side": [2, 201]}}, "sweep.n_side", "integers in [1, 200]"),
-    ({"sweep": {"n_side": [2.5]}}, "sweep.n_side", "integers in [1, 200]"),
-    ({"sweep": {"n_side": ["x"]}}, "sweep.n_side", "integers in [1, 200]"),
+    ({"sweep": {"n_side": 0}}, "sweep.n_side", "integers in [1, 1000]"),
+    ({"sweep": {"n_side": [2, 1001]}}, "sweep.n_side", "integers in [1, 1000]"),
+    ({"sweep": {"n_side": [2.5]}}, "sweep.n_side", "integers in [1, 1000]"),
+    ({"sweep": {"n_side": ["x"]}}, "sweep.n_side", "integers in [1, 1000]"),
     ({"sweep": {"n_side": [2, 2]}}, "sweep.n_side", "no duplicates"),
     ({"sweep": {"n_side": []}}, "sweep.n_side", "non-empty"),
-    ({"sweep": {"n_side": [True]}}, "sweep.n_side", "integers in [1, 200]"),
+    ({"sweep": {"n_side": [True]}}, "sweep.n_side", "integers in [1, 1000]"),
     ({"scene": {**SCENE, "n_side": 4}}, "scene.n_side", "absent with sweep.n_side"),
     ({"scene": {**SCENE, "n_pillars": 16}}, "scene.n_pillars", "absent with sweep.n_side"),
     ({"scene": {**SCENE, "heights": "h.csv"}}, "scene.heights", "one per pillar"),
@@ -125,7 +125,7 @@ def test_a_bad_size_sweep_is_one_line_exit_2_nothing_written(tmp_path, capsys, c
 
 
 def test_the_allowed_range_of_a_swept_size_is_the_scene_s():
-    for bad in (0, 201, 2.5, "x"):
+    for bad in (0, 1001, 2.5, "x"):
         with pytest.raises(ConfigError) as scene_err:
             spec_from_dict(_unswept(bad))
         with pytest.raises(ConfigError) as sweep_err:

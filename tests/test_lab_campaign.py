@@ -125,16 +125,16 @@ def test_a_pillar_count_is_the_scene_of_its_side():
     assert job_key(by_count) == "d568cf103086c81f" and "n_pillars" not in by_count.to_dict()
     assert job_key(Scene(n_pillars=49, lattice="hexagonal", F_P=1.0)) == "9a75aafcb51091c8"
     assert by_count.replace(n_pillars=49).n_side == 7 and by_count.replace(k_tilde=1).n_side == 6
-    assert Scene(n_pillars=1).n_side == 1 and Scene(n_pillars=40000).n_side == 200
+    assert Scene(n_pillars=1).n_side == 1 and Scene(n_pillars=1000000, elements_per_diameter=3).n_side == 1000
 
 
 @pytest.mark.parametrize("kw,text", [
     (dict(n_pillars=40), "the nearest are 36 (n_side 6) and 49 (n_side 7)"),
     (dict(n_pillars=50, lattice="hexagonal"), "lattice hexagonal): the nearest are 49"),
     (dict(n_pillars=36, n_side=6), "give n_side or n_pillars, not both"),
-    (dict(n_pillars=0), "a square number n_side**2 in [1, 40000]"),
-    (dict(n_pillars=2.5), "a square number n_side**2 in [1, 40000]"),
-    (dict(n_pillars=True), "a square number n_side**2 in [1, 40000]"),
+    (dict(n_pillars=0), "a square number n_side**2 in [1, 1000000]"),
+    (dict(n_pillars=2.5), "a square number n_side**2 in [1, 1000000]"),
+    (dict(n_pillars=True), "a square number n_side**2 in [1, 1000000]"),
 ])
 def test_a_bad_pillar_count_is_one_line(kw, text):
     from fibril_hpc import Scene

@@ -27,7 +27,7 @@ RNG_NAME = "numpy.random.PCG64 + Generator.standard_normal, row-major pillar ord
 
 
 #: largest pillars per side of a scene (Scene.n_side's range)
-MAX_N_SIDE = 200
+MAX_N_SIDE = 1000
 
 
 def n_side_of(n_pillars, lattice: str = "square") -> int:

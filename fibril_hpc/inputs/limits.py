@@ -46,9 +46,12 @@ def check_grid(n_side: int, phi: float, elements_per_diameter: float,
     :data:`MAX_GRID_SIDE`."""
     n = Lattice.of(n_side, phi, elements_per_diameter, lattice).grid_side
     if n > MAX_GRID_SIDE:
+        m = padded_size(n)
         raise ConfigError("elements_per_diameter", elements_per_diameter,
                           f"a resolution giving at most {MAX_GRID_SIDE} elements per side "
-                          f"(this one gives {n} for n_side={n_side}, lattice {lattice})")
+                          f"(this one gives {n} for n_side={n_side}, lattice {lattice}; its "
+                          f"padded FFT grid of {m} x {m} alone would need about "
+                          f"{BYTES_PER_FFT_ELEMENT * m * m / 2**30:.0f} GiB)")
     return n
 
 

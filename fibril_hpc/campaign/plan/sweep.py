@@ -8,7 +8,7 @@ grid sweeping ``n_side`` at n_side = N has the key the same job has in a grid wi
 ``scene: {n_side: N}``.
 
 ``n_side`` values are checked here, exactly as the scene checks ``n_side`` (integers in
-[1, 200]). What depends on the pillar count cannot be swept with it, and is one line naming the
+[1, 1000]). What depends on the pillar count cannot be swept with it, and is one line naming the
 field: a fixed ``scene.n_side``/``n_pillars`` (the side is swept), measured lengths or
 stiffnesses (a file or list holds one value per pillar of one brush size), and pillar springs or
 length spreads given in SI units (k~ = k/(E* L) and sigma~ = sigma/d_c depend on the brush side
