@@ -138,6 +138,13 @@ def test_dry_run_writes_nothing(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "16 jobs" in out and "core-hours" in out
     assert os.listdir(tmp_path) == ["grid.yaml"]
+    # the memory of one rank, the estimate the memory check compares (issue 35)
+    from fibril_hpc.campaign.plan.spec import load_spec
+    from fibril_hpc.inputs.limits import memory_estimate
+
+    need = memory_estimate(load_spec(grid).base)[0]
+    line = next(ln for ln in out.splitlines() if ln.startswith("memory: "))
+    assert f"about {need / 2**30:.2g} GiB per rank" in line and "available now" in line
 
 
 def test_dry_run_after_editing_the_grid_refuses_as_the_run_does(tmp_path, capsys):

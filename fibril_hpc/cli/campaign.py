@@ -133,6 +133,7 @@ def cmd_run(args) -> int:
 def _print_plan(spec, retry_failed: bool) -> None:
     from ..campaign.analysis.status import plan, search_cost_line, search_plan_line
     from ..campaign.plan.estimate import AUTO_LATER_TASKS
+    from ..inputs.limits import available_memory, memory_estimate
 
     pl = plan(spec, retry_failed)
     swept = "".join(f" x {len(v)} sweep.{k}" for k, v in spec.sweep.items())
@@ -159,6 +160,10 @@ def _print_plan(spec, retry_failed: bool) -> None:
           f"{pl.elements_per_diameter:.2f} elements per pillar diameter ({pl.elements_per_pillar} in "
           f"a pillar's footprint), {pl.fft_pair_s * 1e3:.3f} ms per FFT "
           f"pair with {spec.base.solver.threads} thread(s)")
+    need = memory_estimate(spec.base)[0]
+    avail = available_memory()
+    print(f"memory: about {need / 2**30:.2g} GiB per rank (estimated"
+          + (f"; {avail / 2**30:.1f} GiB available now" if avail is not None else "") + ")")
     est = pl.estimate_s
     print(f"estimated cost ({pl.how}): {est / 3600:.3g} core-hours "
           f"x {spec.base.solver.threads} thread(s) per rank "
