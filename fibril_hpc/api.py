@@ -180,8 +180,9 @@ def simulate(scene: Scene, *, model: Model | None = None,
     progress : callable, optional
         Called after every recorded point of the path with a dict: ``phase`` ("loading" or
         "unloading"), ``preload`` (the index of the preload being pulled off, or None while
-        loading), ``d_tilde``, ``F_tilde`` and ``events`` (contact events so far). It only
-        watches: the result does not depend on it.
+        loading), ``d_tilde``, ``F_tilde``, ``events`` (contact events so far),
+        ``pillars_in_contact`` and ``n_pillars`` (a pull-off ends when no pillar is in contact).
+        It only watches: the result does not depend on it.
 
     Returns
     -------
@@ -202,9 +203,11 @@ def _observer(model: Model, progress, state: dict):
     """The path driver's observer that hands ``progress`` the point in normalised units."""
     sc = model.scaling
 
-    def observe(phase, d, F, events):
+    def observe(phase, d, F, events, pillars):
         progress({"phase": phase, "preload": state.get("preload"), "d_tilde": d / sc.d_c,
-                  "F_tilde": F / sc.F_c, "events": events})
+                  "F_tilde": F / sc.F_c, "events": events, "pillars_in_contact": pillars,
+                  "n_pillars": n_pillars})
+    n_pillars = model.geometry.n_groups
     return observe
 
 

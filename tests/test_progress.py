@@ -33,6 +33,11 @@ def test_simulate_reports_every_point_and_its_result_does_not_depend_on_it():
     assert ("unloading", 0) in phases and ("unloading", 1) in phases
     n_points = len(plain.results[0].loading) + sum(len(r.unloading) for r in plain.results)
     assert len(seen) >= n_points - 2           # every recorded point (snapshots are extra)
+    # the pillars in contact: the curves' own count at each point, none when a pull-off ends
+    assert {s["n_pillars"] for s in seen} == {9}
+    assert seen[-1]["pillars_in_contact"] == 0 == plain.results[-1].unloading.n_pillars_in_contact[-1]
+    most = max(s["pillars_in_contact"] for s in seen)
+    assert most == max(r.n_pillars_in_contact_max for r in plain.results) > 0
 
 
 def test_run_progress_bar_on_a_terminal_lines_elsewhere():
@@ -48,6 +53,12 @@ def test_run_progress_bar_on_a_terminal_lines_elsewhere():
     line = log.getvalue()
     assert line.startswith("fibril-run: 7 events, loading, d~ 3, F~ 1, elapsed ")
     assert "\r" not in line and line.endswith("\n")
+    log = io.StringIO()
+    p = RunProgress(1, stream=log, every_s=0.0)
+    p({"phase": "unloading", "preload": 0, "d_tilde": -1.0, "F_tilde": -0.5, "events": 9,
+       "pillars_in_contact": 1234, "n_pillars": 99856})
+    p.close()
+    assert "pull-off 1/1, d~ -1, F~ -0.5, 1234 of 99856 pillars in contact, elapsed" in log.getvalue()
     quiet = io.StringIO()                        # a short run prints no line at all
     p = RunProgress(1, stream=quiet, every_s=10.0)
     p({"phase": "loading", "preload": None, "d_tilde": 0.0, "F_tilde": 0.0, "events": 1})

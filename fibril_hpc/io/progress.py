@@ -144,8 +144,8 @@ class Bar:
 
 class RunProgress:
     """The progress of one simulation, for :func:`fibril_hpc.api.simulate`'s ``progress``
-    hook: contact events so far, the phase (loading, or the pull-off from preload i of n), and
-    the current d~ and F~."""
+    hook: contact events so far, the phase (loading, or the pull-off from preload i of n), the
+    current d~ and F~, and the pillars in contact (a pull-off ends at none)."""
 
     def __init__(self, n_preloads: int, stream=None, enabled: bool = True,
                  every_s: float = 10.0, desc: str = "fibril-run"):
@@ -165,9 +165,11 @@ class RunProgress:
         return f"pull-off {i + 1}/{self.n}"
 
     def state(self) -> str:
-        """The phase with d~ and F~."""
+        """The phase with d~, F~ and the pillars in contact (of all)."""
+        pc, n = self.info.get("pillars_in_contact"), self.info.get("n_pillars")
         return (f"{self.phase()}, d~ {self.info['d_tilde']:.4g}, "
-                f"F~ {self.info['F_tilde']:.4g}")
+                f"F~ {self.info['F_tilde']:.4g}"
+                + (f", {pc} of {n} pillars in contact" if pc is not None and n else ""))
 
     def line(self) -> str:
         """The plain line: events, phase, d~, F~, elapsed."""

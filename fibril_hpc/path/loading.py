@@ -80,8 +80,9 @@ class PathDriver(SnapshotMixin):
         self._ones = np.ones(n)
         self._dl = np.zeros(ng)
         self.events = 0
-        #: called as ``observer(phase, d, F, events)`` after every recorded point (internal
-        #: units; ``phase`` is "loading" or "unloading"), or None: a progress display's hook
+        #: called as ``observer(phase, d, F, events, pillars)`` after every recorded point
+        #: (internal units; ``phase`` is "loading" or "unloading"; ``pillars``: the pillars in
+        #: contact), or None: a progress display's hook
         self.observer = None
         self.phase = "loading"
         opts = model.options
@@ -128,9 +129,10 @@ class PathDriver(SnapshotMixin):
     def record(self, curve: CurveRecorder):
         """Append the current state to ``curve`` (and tell the observer, if any)."""
         F = self.force()
-        curve.add(self.d, F, self.n_attached(), self.pillars_in_contact())
+        pillars = self.pillars_in_contact()
+        curve.add(self.d, F, self.n_attached(), pillars)
         if self.observer is not None:
-            self.observer(self.phase, self.d, F, self.events)
+            self.observer(self.phase, self.d, F, self.events, pillars)
 
     # -- solves -----------------------------------------------------------------------------
     def relax(self):
