@@ -57,11 +57,20 @@ def test_confirm_local_is_priced_by_its_measured_pair_ratio():
         loc = Scene(n_side=18, preset=preset, F_P=[0.1, 4], solver={"confirm": "local"})
         factor = estimate.CONFIRM_LOCAL_PAIRS.get(preset, 1.0)
         assert estimate.task_pairs(loc, 45) == pytest.approx(factor * estimate.task_pairs(ref, 45))
+        # CPU: fewer pairs, each dearer by the confirmations' work; `accurate` (unmeasured)
+        # is priced as the reference path
+        cpu = factor * (estimate.CONFIRM_LOCAL_CPU_PER_PAIR if factor < 1 else 1.0)
+        assert estimate.task_seconds(loc, 2e-3, 45) == pytest.approx(
+            cpu * estimate.task_seconds(ref, 2e-3, 45))
+        assert estimate.task_seconds(loc, 2e-3, 45) < estimate.task_seconds(ref, 2e-3, 45) or \
+            preset == "accurate"
     assert estimate.CONFIRM_LOCAL_PAIRS["default"] < estimate.CONFIRM_LOCAL_PAIRS["fast"] < 1
+    assert "accurate" not in estimate.CONFIRM_LOCAL_PAIRS
 
 
-def test_the_confirm_local_factors_are_the_corner_grids_pair_ratios():
-    """The factors are the summed pairs_local / pairs_ref of the measured corner grid."""
+def test_the_confirm_local_factors_are_the_corner_grids_ratios():
+    """The factors are the summed pairs_local / pairs_ref of the measured corner grid, and the
+    CPU per pair the summed CPU ratio over that."""
     import csv
     import os
 
@@ -74,6 +83,8 @@ def test_the_confirm_local_factors_are_the_corner_grids_pair_ratios():
         assert len(mine) >= 10
         ratio = sum(int(r["pairs_local"]) for r in mine) / sum(int(r["pairs_ref"]) for r in mine)
         assert factor == pytest.approx(ratio, abs=0.006), preset
+        cpu = sum(float(r["cpu_local"]) for r in mine) / sum(float(r["cpu_ref"]) for r in mine)
+        assert estimate.CONFIRM_LOCAL_CPU_PER_PAIR == pytest.approx(cpu / ratio, abs=0.01), preset
 
 
 @pytest.mark.parametrize("preset", ["fast", "default"])
@@ -94,5 +105,7 @@ def test_the_dry_run_prices_a_confirm_local_grid_below_the_reference(tmp_path, m
         priced[confirm] = status.plan(load_spec(str(g))).estimate_s
         assert main([str(g), "--dry-run"]) == 0
     assert "estimate" in capsys.readouterr().out.lower()
-    assert priced["local"] == pytest.approx(estimate.CONFIRM_LOCAL_PAIRS[preset] * priced["global"])
-    assert priced["local"] < 0.9 * priced["global"]
+    # fewer pairs, each dearer by the local confirmations' own work: the measured CPU ratio
+    factor = estimate.CONFIRM_LOCAL_PAIRS[preset] * estimate.CONFIRM_LOCAL_CPU_PER_PAIR
+    assert priced["local"] == pytest.approx(factor * priced["global"])
+    assert priced["local"] < (0.9 if preset == "default" else 0.99) * priced["global"]

@@ -25,7 +25,8 @@ the paper grid's eight sampled ``F_P: auto`` paths at `default` (measured pairs 
 previous fit of 0.55: 0.31), its four corners at `fast` (0.82x of 0.25) and at `accurate`
 (benchmarks/NOTES.md §26). A scene with ``solver: {confirm: local}`` (the opt-in local
 confirmation, docs/model.md §6) skips global solves: its pairs are scaled by
-``CONFIRM_LOCAL_PAIRS[preset]``, the measured ratio to the reference path. Expect up to ~2x
+``CONFIRM_LOCAL_PAIRS[preset]``, the measured ratio to the reference path, and its CPU per pair
+by ``CONFIRM_LOCAL_CPU_PER_PAIR`` (the confirmations' own work). Expect up to ~2x
 either way on single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones
 dearer), less on a whole grid. When the output file already holds finished jobs, their measured
 mean wall time per task is used instead.
@@ -58,9 +59,16 @@ PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
 #: unloading each, so grids with many preloads are priced by the same ratio unmeasured): `default`
 #: 0.76 (24 scenes: 0.767 at 18 x 18, 0.759 at 36 x 36, so no size dependence is modelled),
 #: `fast` 0.86 (15 scenes at 36 x 36). `accurate` was not measured: priced as the reference
-#: path. The CPU time fell less than the pairs there (summed: 0.86 and 0.85 at `default`, 0.96
-#: at `fast`): the local confirmations cost CPU that no FFT pair counts.
+#: path (neither factor applies).
 CONFIRM_LOCAL_PAIRS = {"fast": 0.86, "default": 0.76}
+#: ... and its CPU per FFT pair over the reference path's: the local confirmations (exact sums
+#: of the local change, the bound) cost CPU that no pair counts. On the same grid the summed CPU
+#: fell to 0.85 (`default`) and 0.96 (`fast`) of the reference's, 1.12 x the pair ratio at both
+#: presets. ``benchmarks/price_check.py``'s local twins of an 8 x 8 `default` and a 12 x 12
+#: `fast` grid measured 1.34 and 1.19 x their price without it (the reference grids 1.07 and
+#: 0.88 x), 1.10 and 0.80 x with it (the reference grids 1.14 and 0.83 x; one run each on a
+#: shared machine; benchmarks/NOTES.md, issue 35 item 5).
+CONFIRM_LOCAL_CPU_PER_PAIR = 1.12
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
 #: with the pillar count N_p away from it: ~ N_p^SIZE_GROWTH[0] below, ~ N_p^SIZE_GROWTH[1]
 #: above (the growth table at `default`, one path per size: 8 -> 18 x 18 as N_p^0.87, 18 -> 64 x
@@ -145,6 +153,8 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
 def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
     """Modelled CPU seconds of one task (``scene`` with its preloads)."""
     per_pair = pair_s * OVERHEAD.get(scene.preset, OVERHEAD["default"]) + PAIR_FIXED_S
+    if scene.solver.confirm == "local" and scene.preset in CONFIRM_LOCAL_PAIRS:   # measured
+        per_pair *= CONFIRM_LOCAL_CPU_PER_PAIR
     return task_pairs(scene, elements_per_pillar) * per_pair
 
 
