@@ -9,7 +9,8 @@ this process, the CPU time of the whole run measured (``time.process_time``: the
 calls, the journal and the checkpoints). Prints measured / priced with the machine-independent
 counts (loading paths, simulate calls, jobs, FFT pairs) and writes
 ``benchmarks/results/price_check-*``. The whole set costs about 5 CPU minutes; "README grid"
-is README's campaign example.
+is README's campaign example; the "... confirm local" grids are twins of two others with
+``solver: {confirm: local}``.
 """
 
 from __future__ import annotations
@@ -48,6 +49,12 @@ CASES = {
     "36x36 fast one job": dict(scene={"n_side": 36, "preset": "fast", "solver": R1},
                                k_tilde=[0.01], sigma_tilde=[0.5], F_P=[4], seeds=1),
 }
+#: twins of two grids above with the opt-in ``solver.confirm: local`` (priced by
+#: ``estimate.CONFIRM_LOCAL_PAIRS``; left out of the OVERHEAD / PAIR_FIXED_S fit)
+LOCAL = {**R1, "confirm": "local"}
+for _name in ("8x8 default F_P list", "12x12 fast F_P auto"):
+    CASES[_name + " confirm local"] = {**CASES[_name],
+                                       "scene": {**CASES[_name]["scene"], "solver": LOCAL}}
 
 
 def price(spec, terms: bool = False) -> dict:
@@ -90,7 +97,8 @@ def measure(name: str, grid: dict, folder: str) -> dict:
         yaml.safe_dump({"output": os.path.basename(path)[:-5] + ".h5", "group_preloads": True,
                         **grid}, fh)
     spec = load_spec(path)
-    row = {"case": name, "preset": grid["scene"]["preset"], **price(spec, terms=True)}
+    row = {"case": name, "preset": grid["scene"]["preset"],
+           "confirm": grid["scene"]["solver"].get("confirm", "global"), **price(spec, terms=True)}
     t0 = time.process_time()
     code = run_serial(spec, progress=False)
     row["measured_s"] = time.process_time() - t0
@@ -147,8 +155,11 @@ def main(argv=None) -> int:
 
 
 def _fit(rows) -> dict:
-    """OVERHEAD per preset and PAIR_FIXED_S that fit the measured costs (relative errors)."""
+    """OVERHEAD per preset and PAIR_FIXED_S that fit the measured costs (relative errors), on the
+    reference path's grids (``confirm: global``) alone."""
     import numpy as np
+
+    rows = [r for r in rows if r.get("confirm", "global") == "global"]
 
     presets = sorted({r["preset"] for r in rows})
     a = np.array([[r["fft_term_s"] * (r["preset"] == p) for p in presets] + [r["pair_term"]]

@@ -34,7 +34,8 @@ def test_quick_writes_table_csv_and_plot(quick):
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 20_000
     md = (quick / "accuracy.md").read_text()
     assert "| case | kind |" in md and "`brush6` reference" in md
-    assert sum(line.startswith("| pillar") for line in md.splitlines()) == \
+    every = md.split("All runs:")[1]               # one line per run there
+    assert sum(line.startswith("| pillar") for line in every.splitlines()) == \
         sum(r["case"] == "pillar" for r in rows)
 
 
@@ -78,6 +79,28 @@ def test_presets_in_the_study_are_the_presets(quick):
                 and r["epd_target"] == d["epd_target"]]
         if same:
             assert same[0]["F_A"] == d["F_A"] and same[0]["wall_s"] == d["wall_s"]
+
+
+def test_confirm_local_is_a_point_beside_each_preset(quick):
+    rows = accuracy.read_rows(str(quick / "accuracy.csv"))
+    accuracy.add_errors(rows)
+    md = (quick / "accuracy.md").read_text()
+    for case in ("pillar", "brush6"):
+        for name in PRESETS:
+            g = next(r for r in rows if r["case"] == case and r["kind"] == "preset"
+                     and r["value"] == name)
+            loc = next(r for r in rows if r["case"] == case and r["kind"] == "local"
+                       and r["value"] == name)
+            assert loc["epd"] == g["epd"] and loc["status"] == "ok"
+            # its own run, with the confirmation on: the global path keeps no state locally
+            assert g["confirmed_local"] == 0 and loc["confirmed_local"] > 0
+            assert loc["F_A"] == pytest.approx(g["F_A"], rel=1e-3)
+            assert math.isfinite(loc["err_F_A"]) and loc["fft_pairs"] <= g["fft_pairs"]
+            assert f"| {name} + confirm: local |" in md
+            assert f"| {case} | {name} | " in md          # the local-against-global table
+    # on the brush the local path skips global solves: fewer FFT pairs than its preset
+    b = {r["kind"]: r for r in rows if r["case"] == "brush6" and r["value"] == "default"}
+    assert b["local"]["fft_pairs"] < b["preset"]["fft_pairs"]
 
 
 def test_resume_and_report_only_run_nothing_new(quick, tmp_path):

@@ -49,3 +49,63 @@ def test_the_dry_run_prices_the_later_rounds_of_an_auto_grid(tmp_path, capsys):
     assert main([_grid(tmp_path, "[1, 4]"), "--dry-run"]) == 0
     out = capsys.readouterr().out
     assert "round 0" not in out and "later" not in out
+
+
+def test_confirm_local_is_priced_by_its_measured_pair_ratio():
+    for preset in ("fast", "default", "accurate"):
+        ref = Scene(n_side=18, preset=preset, F_P=[0.1, 4])
+        loc = Scene(n_side=18, preset=preset, F_P=[0.1, 4], solver={"confirm": "local"})
+        factor = estimate.CONFIRM_LOCAL_PAIRS.get(preset, 1.0)
+        assert estimate.task_pairs(loc, 45) == pytest.approx(factor * estimate.task_pairs(ref, 45))
+        # CPU: fewer pairs, each dearer by the confirmations' work; `accurate` (unmeasured)
+        # is priced as the reference path
+        cpu = factor * (estimate.CONFIRM_LOCAL_CPU_PER_PAIR if factor < 1 else 1.0)
+        assert estimate.task_seconds(loc, 2e-3, 45) == pytest.approx(
+            cpu * estimate.task_seconds(ref, 2e-3, 45))
+        assert estimate.task_seconds(loc, 2e-3, 45) < estimate.task_seconds(ref, 2e-3, 45) or \
+            preset == "accurate"
+    assert estimate.CONFIRM_LOCAL_PAIRS["default"] < estimate.CONFIRM_LOCAL_PAIRS["fast"] < 1
+    assert "accurate" not in estimate.CONFIRM_LOCAL_PAIRS
+
+
+def test_the_confirm_local_factors_are_the_corner_grids_ratios():
+    """The factors are the summed pairs_local / pairs_ref of the measured corner grid, and the
+    CPU per pair the summed CPU ratio over that."""
+    import csv
+    import os
+
+    path = os.path.join(os.path.dirname(__file__), "..", "benchmarks", "results",
+                        "confirm-grid-device", "confirm_grid.csv")
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = [r for r in csv.DictReader(fh) if r["status"] == "ok/ok"]
+    for preset, factor in estimate.CONFIRM_LOCAL_PAIRS.items():
+        mine = [r for r in rows if r["preset"] == preset]
+        assert len(mine) >= 10
+        ratio = sum(int(r["pairs_local"]) for r in mine) / sum(int(r["pairs_ref"]) for r in mine)
+        assert factor == pytest.approx(ratio, abs=0.006), preset
+        cpu = sum(float(r["cpu_local"]) for r in mine) / sum(float(r["cpu_ref"]) for r in mine)
+        assert estimate.CONFIRM_LOCAL_CPU_PER_PAIR == pytest.approx(cpu / ratio, abs=0.01), preset
+
+
+@pytest.mark.parametrize("preset", ["fast", "default"])
+def test_the_dry_run_prices_a_confirm_local_grid_below_the_reference(tmp_path, monkeypatch,
+                                                                     capsys, preset):
+    from fibril_hpc.campaign.analysis import status
+    from fibril_hpc.campaign.plan.spec import load_spec
+    from fibril_hpc.cli.campaign import main
+
+    # one FFT pair timed once for both grids: the prices differ by the model alone
+    monkeypatch.setattr(status, "fft_pair_seconds", lambda scene: (4e-4, 128, 25))
+    priced = {}
+    for confirm in ("global", "local"):
+        g = tmp_path / f"{confirm}.yaml"
+        g.write_text(f"output: {confirm}.h5\nscene: {{n_side: 6, preset: {preset}, "
+                     f"solver: {{confirm: {confirm}}}}}\nk_tilde: [0.01, 1]\n"
+                     "sigma_tilde: [0.5]\nF_P: [1, 4]\nseeds: 2\n")
+        priced[confirm] = status.plan(load_spec(str(g))).estimate_s
+        assert main([str(g), "--dry-run"]) == 0
+    assert "estimate" in capsys.readouterr().out.lower()
+    # fewer pairs, each dearer by the local confirmations' own work: the measured CPU ratio
+    factor = estimate.CONFIRM_LOCAL_PAIRS[preset] * estimate.CONFIRM_LOCAL_CPU_PER_PAIR
+    assert priced["local"] == pytest.approx(factor * priced["global"])
+    assert priced["local"] < (0.9 if preset == "default" else 0.99) * priced["global"]

@@ -19,6 +19,22 @@ def _pct(x) -> str:
     return "" if not math.isfinite(x) else f"{100 * x:+.2f} %"
 
 
+def _num(x, fmt: str = "{:d}") -> str:
+    """A count or number, blank where the row has none (rows of an older ``accuracy.csv``)."""
+    return "" if not math.isfinite(x) else fmt.format(int(x) if fmt == "{:d}" else x)
+
+
+def _ratio(a, b) -> str:
+    """a / b to two decimals, blank without a positive b (a run with no FFT pair)."""
+    return f"{a / b:.2f}" if math.isfinite(a) and math.isfinite(b) and b > 0 else ""
+
+
+def label(r) -> str:
+    """How a row is named in the tables and the plot: a preset, or a preset with local
+    confirmation (``default + confirm: local``)."""
+    return f"{r['value']} + confirm: local" if r["kind"] == "local" else str(r["value"])
+
+
 def _unc(x) -> str:
     return "unknown" if not math.isfinite(x) else f"±{100 * x:.2f} %"
 
@@ -62,40 +78,83 @@ def markdown(rows: list[dict], refs: dict, quick: bool, versions: dict) -> str:
     out.append("")
     out.extend(preset_summary(rows))
     out.append("")
+    out.extend(local_summary(rows))
+    out.append("")
     out.append("All runs:")
     out.append("")
     out.append("| case | kind | knob | value | elements/diam. | F~_A | err F~_A | knob err F~_A | "
-               "err F~_P (d~_max) | wall s | CPU s | CG it. | events |")
-    out.append("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
-    order = {"resolution": 0, "knob": 1, "preset": 2, "tight": 3, "reference": 4}
+               "err F~_P (d~_max) | wall s | CPU s | CG it. | FFT pairs | events | "
+               "kept locally |")
+    out.append("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | "
+               "--- | --- |")
+    order = {"resolution": 0, "knob": 1, "preset": 2, "local": 3, "tight": 4, "reference": 5}
     for r in sorted(rows, key=lambda r: (r["case"], order.get(r["kind"], 9), r["knob"], r["epd"])):
         if r["status"] != "ok":
             out.append(f"| {r['case']} | {r['kind']} | {r['knob']} | {r['value']} | "
-                       f"{r['epd']:.2f} | failed | | | | {r['wall_s']:.2f} | | | |")
+                       f"{r['epd']:.2f} | failed | | | | {r['wall_s']:.2f} | | | | | |")
             continue
         out.append(f"| {r['case']} | {r['kind']} | {r['knob']} | {r['value']} | {r['epd']:.2f} | "
                    f"{r['F_A']:.5f} | {_pct(r['err_F_A'])} | {_pct(r['kerr_F_A'])} | "
                    f"{_pct(_preload_err(r))} | {r['wall_s']:.2f} | {r['cpu_s']:.2f} | "
-                   f"{int(r['cg_iterations'])} | {int(r['events'])} |")
+                   f"{int(r['cg_iterations'])} | {_num(r['fft_pairs'])} | {int(r['events'])} | "
+                   f"{_num(r['confirmed_local'])} |")
     out.append("")
     return "\n".join(out)
 
 
+def _row(rows, case, kind, name):
+    return next((r for r in rows if r["case"] == case and r["kind"] == kind
+                 and r["value"] == name and r["status"] == "ok"), None)
+
+
 def preset_summary(rows: list[dict]) -> list[str]:
-    """Markdown lines: each preset's measured error and time per case."""
+    """Markdown lines: each preset's measured error and time per case, and each preset with
+    ``confirm: local`` (its own point, below the preset)."""
     cases = sorted({r["case"] for r in rows})
-    out = ["Presets (error of F~_A, of F~_P or d~_max, CPU seconds per scene):", "",
+    out = ["Presets, and presets with `solver.confirm: local` (error of F~_A, of F~_P or d~_max, "
+           "CPU seconds per scene, FFT pairs):", "",
            "| preset | elements/diam. | " + " | ".join(cases) + " |",
            "| --- | --- | " + " | ".join("---" for _ in cases) + " |"]
     for name, p in PRESETS.items():
-        cells = []
-        for c in cases:
-            r = next((r for r in rows if r["case"] == c and r["kind"] == "preset"
-                      and r["value"] == name and r["status"] == "ok"), None)
-            cells.append("not measured" if r is None else
-                         f"{_pct(r['err_F_A'])}, {_pct(_preload_err(r))}, {r['cpu_s']:.3g} s")
-        out.append(f"| {name} | {p['elements_per_diameter']} | " + " | ".join(cells) + " |")
+        for kind in ("preset", "local"):
+            cells = []
+            for c in cases:
+                r = _row(rows, c, kind, name)
+                cells.append("not measured" if r is None else
+                             f"{_pct(r['err_F_A'])}, {_pct(_preload_err(r))}, "
+                             f"{r['cpu_s']:.3g} s" + (f", {_num(r['fft_pairs'])}" if
+                                                     math.isfinite(r["fft_pairs"]) else ""))
+            if kind == "local" and all(x == "not measured" for x in cells):
+                continue                    # an older study, run before the local points
+            out.append(f"| {label({'kind': kind, 'value': name})} | "
+                       f"{p['elements_per_diameter']} | " + " | ".join(cells) + " |")
     return out
+
+
+def local_summary(rows: list[dict]) -> list[str]:
+    """Markdown lines: each preset with ``confirm: local`` against the same preset's run
+    (``confirm: global``, the reference path): the change of F~_A and of the preload side, and
+    the ratios of CPU time and FFT pairs. Empty when no such pair of runs is in ``rows``."""
+    out = []
+    for case in sorted({r["case"] for r in rows}):
+        for name in PRESETS:
+            g, loc = _row(rows, case, "preset", name), _row(rows, case, "local", name)
+            if g is None or loc is None:
+                continue
+            pre = "F_P" if "d_tilde" in CASES.get(case, {}).get("scene", {}) else "d_max"
+            d = [loc[q] / g[q] - 1 if g[q] else math.nan for q in ("F_A", pre)]
+            out.append(f"| {case} | {name} | {d[0]:+.1e} | {d[1]:+.1e} | "
+                       f"{_ratio(loc['cpu_s'], g['cpu_s'])} | "
+                       f"{_ratio(loc['fft_pairs'], g['fft_pairs'])} | "
+                       f"{_num(loc['confirmed_local'])} |")
+    if not out:
+        return []
+    return ["`confirm: local` against the same preset's run (`confirm: global`, the reference "
+            "path): relative change of F~_A and of F~_P (d~_max), ratios of CPU time and FFT "
+            "pairs (< 1: a saving), and the relaxations kept without a global solve:", "",
+            "| case | preset | change of F~_A | change of F~_P (d~_max) | CPU ratio | "
+            "FFT-pair ratio | relaxations kept locally |",
+            "| --- | --- | --- | --- | --- | --- | --- |", *out]
 
 
 def pareto(points: list[tuple]) -> list[tuple]:
@@ -118,7 +177,9 @@ def plot(rows: list[dict], path: str) -> None:
     cases = sorted({r["case"] for r in rows})
     fig, axes = plt.subplots(1, len(cases), figsize=(5.2 * len(cases), 4.4), squeeze=False,
                              constrained_layout=True)
-    marks = {"resolution": "o", "knob": "s", "preset": "*", "tight": "^", "reference": "^"}
+    marks = {"resolution": "o", "knob": "s", "preset": "*", "local": "P", "tight": "^",
+             "reference": "^"}
+    colours = {"resolution": "C0", "knob": "C1", "preset": "C3", "local": "C4"}
     for ax, case in zip(axes[0], cases):
         pts = []
         for r in rows:
@@ -127,13 +188,15 @@ def plot(rows: list[dict], path: str) -> None:
             err = max(abs(r["err_F_A"]), 1e-6)
             pts.append((r["cpu_s"], err, r))
             ax.loglog(r["cpu_s"], err, marks.get(r["kind"], "x"),
-                      ms=13 if r["kind"] == "preset" else 6,
-                      color={"resolution": "C0", "knob": "C1", "preset": "C3"}.get(r["kind"], "C2"),
-                      alpha=0.8)
-            if r["kind"] in ("preset", "resolution"):
-                ax.annotate(r["value"] if r["kind"] == "preset" else f"{r['epd']:.1f}",
-                            (r["cpu_s"], err), fontsize=7, xytext=(3, 3),
-                            textcoords="offset points")
+                      ms={"preset": 13, "local": 10}.get(r["kind"], 6),
+                      color=colours.get(r["kind"], "C2"), alpha=0.8)
+            if r["kind"] in ("preset", "local", "resolution"):
+                # a local point sits at about its preset's error: its label goes below
+                ax.annotate(f"{r['value']}+local" if r["kind"] == "local" else
+                            r["value"] if r["kind"] == "preset" else f"{r['epd']:.1f}",
+                            (r["cpu_s"], err), fontsize=7,
+                            xytext=(3, -10) if r["kind"] == "local" else (3, 3),
+                            textcoords="offset points", color="C4" if r["kind"] == "local" else "k")
         front = pareto(pts)
         if front:
             ax.loglog([p[0] for p in front], [p[1] for p in front], "k-", lw=0.8,
@@ -144,7 +207,8 @@ def plot(rows: list[dict], path: str) -> None:
         ax.grid(True, which="both", alpha=0.3)
     handles = [plt.Line2D([], [], ls="", marker=m, color=c, label=l) for l, m, c in
                (("elements per diameter", "o", "C0"), ("one knob changed", "s", "C1"),
-                ("preset", "*", "C3"), ("tight knobs", "^", "C2"))]
+                ("preset", "*", "C3"), ("preset + confirm: local", "P", "C4"),
+                ("tight knobs", "^", "C2"))]
     handles.append(plt.Line2D([], [], color="k", lw=0.8, label="Pareto front"))
     axes[0][-1].legend(handles=handles, fontsize=7, loc="best")
     try:

@@ -23,10 +23,13 @@ same paths' ratio. Those fits were made with block Jacobi alone; what ``auto`` n
 solved to 100 x cg_tol, the moment trust test) scales them by ``PRESET_FACTOR``, refitted on
 the paper grid's eight sampled ``F_P: auto`` paths at `default` (measured pairs 0.57x the
 previous fit of 0.55: 0.31), its four corners at `fast` (0.82x of 0.25) and at `accurate`
-(benchmarks/NOTES.md §26). Expect up to ~2x either way on
-single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones dearer), less
-on a whole grid. When the output file already
-holds finished jobs, their measured mean wall time per task is used instead.
+(benchmarks/NOTES.md §26). A scene with ``solver: {confirm: local}`` (the opt-in local
+confirmation, docs/model.md §6) skips global solves: its pairs are scaled by
+``CONFIRM_LOCAL_PAIRS[preset]``, the measured ratio to the reference path, and its CPU per pair
+by ``CONFIRM_LOCAL_CPU_PER_PAIR`` (the confirmations' own work). Expect up to ~2x
+either way on single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones
+dearer), less on a whole grid. When the output file already holds finished jobs, their measured
+mean wall time per task is used instead.
 """
 
 from __future__ import annotations
@@ -49,6 +52,23 @@ F_FULL = 4.0
 #: work of a preset relative to the block-Jacobi fit above, under the ``auto`` preconditioner
 #: (looser tolerances and coarser batching at `fast`; the coarse levels everywhere)
 PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
+#: FFT pairs of a ``confirm: local`` path over the same path's with ``confirm: global``, per
+#: preset: the ratio of the summed pairs (a grid's total) on the issue-35 corner grid
+#: (benchmarks/confirm_grid.py; benchmarks/results/confirm-grid-device/confirm_grid.csv, columns
+#: pairs_local / pairs_ref; k~ 0.001-10, sigma~ 0.01-2.1, seed 0, F~_P = 4: a loading and one
+#: unloading each, so grids with many preloads are priced by the same ratio unmeasured): `default`
+#: 0.76 (24 scenes: 0.767 at 18 x 18, 0.759 at 36 x 36, so no size dependence is modelled),
+#: `fast` 0.86 (15 scenes at 36 x 36). `accurate` was not measured: priced as the reference
+#: path (neither factor applies).
+CONFIRM_LOCAL_PAIRS = {"fast": 0.86, "default": 0.76}
+#: ... and its CPU per FFT pair over the reference path's: the local confirmations (exact sums
+#: of the local change, the bound) cost CPU that no pair counts. On the same grid the summed CPU
+#: fell to 0.85 (`default`) and 0.96 (`fast`) of the reference's, 1.12 x the pair ratio at both
+#: presets. ``benchmarks/price_check.py``'s local twins of an 8 x 8 `default` and a 12 x 12
+#: `fast` grid measured 1.34 and 1.19 x their price without it (the reference grids 1.07 and
+#: 0.88 x), 1.10 and 0.80 x with it (the reference grids 1.14 and 0.83 x; one run each on a
+#: shared machine; benchmarks/NOTES.md, issue 35 item 5).
+CONFIRM_LOCAL_CPU_PER_PAIR = 1.12
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
 #: with the pillar count N_p away from it: ~ N_p^SIZE_GROWTH[0] below, ~ N_p^SIZE_GROWTH[1]
 #: above (the growth table at `default`, one path per size: 8 -> 18 x 18 as N_p^0.87, 18 -> 64 x
@@ -123,6 +143,8 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
     weights = ([min(1.0, f / F_FULL) ** (1 / 3) for f in scene.F_P] if scene.F_P is not None
                else [1.0] * len(scene.d_tilde or ()))
     per = PRESET_FACTOR.get(scene.preset, 1.0) * (PAIRS_LOADING + PAIRS_UNLOADING * sum(weights))
+    if scene.solver.confirm == "local":
+        per *= CONFIRM_LOCAL_PAIRS.get(scene.preset, 1.0)
     n_p = scene.n_side ** 2
     grow = SIZE_GROWTH[0] if n_p < SIZE_REF else SIZE_GROWTH[1]
     return per * SIZE_REF * (n_p / SIZE_REF) ** grow * math.sqrt(elements_per_pillar)
@@ -131,6 +153,8 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
 def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
     """Modelled CPU seconds of one task (``scene`` with its preloads)."""
     per_pair = pair_s * OVERHEAD.get(scene.preset, OVERHEAD["default"]) + PAIR_FIXED_S
+    if scene.solver.confirm == "local" and scene.preset in CONFIRM_LOCAL_PAIRS:   # measured
+        per_pair *= CONFIRM_LOCAL_CPU_PER_PAIR
     return task_pairs(scene, elements_per_pillar) * per_pair
 
 
