@@ -75,12 +75,12 @@ def test_the_confirm_local_factors_are_the_corner_grids_ratios():
     import os
 
     path = os.path.join(os.path.dirname(__file__), "..", "benchmarks", "results",
-                        "confirm-grid-device", "confirm_grid.csv")
+                        "confirm-grid-all.csv")
     with open(path, newline="", encoding="utf-8") as fh:
         rows = [r for r in csv.DictReader(fh) if r["status"] == "ok/ok"]
     for preset, factor in estimate.CONFIRM_LOCAL_PAIRS.items():
         mine = [r for r in rows if r["preset"] == preset]
-        assert len(mine) >= 10
+        assert len(mine) == 32
         ratio = sum(int(r["pairs_local"]) for r in mine) / sum(int(r["pairs_ref"]) for r in mine)
         assert factor == pytest.approx(ratio, abs=0.006), preset
         cpu = sum(float(r["cpu_local"]) for r in mine) / sum(float(r["cpu_ref"]) for r in mine)

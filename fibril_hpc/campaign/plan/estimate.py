@@ -54,21 +54,21 @@ F_FULL = 4.0
 PRESET_FACTOR = {"fast": 0.20, "default": 0.31, "accurate": 0.32}
 #: FFT pairs of a ``confirm: local`` path over the same path's with ``confirm: global``, per
 #: preset: the ratio of the summed pairs (a grid's total) on the issue-35 corner grid
-#: (benchmarks/confirm_grid.py; benchmarks/results/confirm-grid-device/confirm_grid.csv, columns
-#: pairs_local / pairs_ref; k~ 0.001-10, sigma~ 0.01-2.1, seed 0, F~_P = 4: a loading and one
-#: unloading each, so grids with many preloads are priced by the same ratio unmeasured): `default`
-#: 0.76 (24 scenes: 0.767 at 18 x 18, 0.759 at 36 x 36, so no size dependence is modelled),
-#: `fast` 0.86 (15 scenes at 36 x 36). `accurate` was not measured: priced as the reference
-#: path (neither factor applies).
-CONFIRM_LOCAL_PAIRS = {"fast": 0.86, "default": 0.76}
+#: (benchmarks/confirm_grid.py; benchmarks/results/confirm-grid-all.csv, columns
+#: pairs_local / pairs_ref; k~ 0.001-10, sigma~ 0.01-2.1, n_side 18 and 36, seed 0, F~_P = 4: a
+#: loading and one unloading each, so grids with many preloads are priced by the same ratio
+#: unmeasured): `default` 0.747 (32 scenes; 0.73 at 18 x 18, 0.75 at 36 x 36 by their medians,
+#: so no size dependence is modelled), `fast` 0.844 (32 scenes). `accurate` was not measured:
+#: priced as the reference path (neither factor applies).
+CONFIRM_LOCAL_PAIRS = {"fast": 0.84, "default": 0.75}
 #: ... and its CPU per FFT pair over the reference path's: the local confirmations (exact sums
 #: of the local change, the bound) cost CPU that no pair counts. On the same grid the summed CPU
-#: fell to 0.85 (`default`) and 0.96 (`fast`) of the reference's, 1.12 x the pair ratio at both
-#: presets. ``benchmarks/price_check.py``'s local twins of an 8 x 8 `default` and a 12 x 12
+#: fell to 0.855 (`default`) and 0.954 (`fast`) of the reference's, 1.145 and 1.130 x the pair
+#: ratio. ``benchmarks/price_check.py``'s local twins of an 8 x 8 `default` and a 12 x 12
 #: `fast` grid measured 1.34 and 1.19 x their price without it (the reference grids 1.07 and
-#: 0.88 x), 1.10 and 0.80 x with it (the reference grids 1.14 and 0.83 x; one run each on a
+#: 0.88 x), 1.10 and 0.80 x with 1.12 (the reference grids 1.14 and 0.83 x; one run each on a
 #: shared machine; benchmarks/NOTES.md, issue 35 item 5).
-CONFIRM_LOCAL_CPU_PER_PAIR = 1.12
+CONFIRM_LOCAL_CPU_PER_PAIR = 1.14
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
 #: with the pillar count N_p away from it: ~ N_p^SIZE_GROWTH[0] below, ~ N_p^SIZE_GROWTH[1]
 #: above (the growth table at `default`, one path per size: 8 -> 18 x 18 as N_p^0.87, 18 -> 64 x
