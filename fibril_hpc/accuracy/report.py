@@ -173,6 +173,7 @@ def plot(rows: list[dict], path: str) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib import ticker
 
     cases = sorted({r["case"] for r in rows})
     fig, axes = plt.subplots(1, len(cases), figsize=(5.2 * len(cases), 4.4), squeeze=False,
@@ -191,11 +192,13 @@ def plot(rows: list[dict], path: str) -> None:
                       ms={"preset": 13, "local": 10}.get(r["kind"], 6),
                       color=colours.get(r["kind"], "C2"), alpha=0.8)
             if r["kind"] in ("preset", "local", "resolution"):
-                # a local point sits at about its preset's error: its label goes below
+                # a local point sits at about its preset's error: its label goes below; a
+                # resolution's to the left (the preset at that resolution takes the right)
                 ax.annotate(f"{r['value']}+local" if r["kind"] == "local" else
                             r["value"] if r["kind"] == "preset" else f"{r['epd']:.1f}",
                             (r["cpu_s"], err), fontsize=7,
-                            xytext=(3, -10) if r["kind"] == "local" else (3, 3),
+                            xytext={"local": (3, -10), "preset": (3, 3)}.get(r["kind"], (-3, 3)),
+                            ha="right" if r["kind"] == "resolution" else "left",
                             textcoords="offset points", color="C4" if r["kind"] == "local" else "k")
         front = pareto(pts)
         if front:
@@ -205,6 +208,12 @@ def plot(rows: list[dict], path: str) -> None:
         ax.set_xlabel("CPU time per scene [s] (1 thread)")
         ax.set_ylabel("|relative error of F~_A|")
         ax.grid(True, which="both", alpha=0.3)
+        for axis in (ax.xaxis, ax.yaxis):
+            # plain labels at 1, 2 and 5 of each decade; the minor ticks unlabelled (on axes
+            # spanning about a decade matplotlib labels every minor tick, one over the next)
+            axis.set_major_locator(ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+            axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+            axis.set_minor_formatter(ticker.NullFormatter())
     handles = [plt.Line2D([], [], ls="", marker=m, color=c, label=l) for l, m, c in
                (("elements per diameter", "o", "C0"), ("one knob changed", "s", "C1"),
                 ("preset", "*", "C3"), ("preset + confirm: local", "P", "C4"),
