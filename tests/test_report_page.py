@@ -272,7 +272,7 @@ def test_no_zero_is_drawn_where_the_verdict_says_the_line_shows_none(data, monke
     fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
     ax = next(a for a in fig.axes if (m := re.search(r"= ([\d.]+):", a.get_title()))
               and float(m.group(1)) == 1.0)
-    assert "line's zero: none (β consistent with 0" in ax.get_title()
+    assert "line's zero: none (β consistent with 0" in " ".join(ax.get_title().split())
     assert not [t for t in ax.texts if "α/β" in t.get_text()]
     assert not [h for h in ax.get_legend_handles_labels()[1] if "zero of the line" in h]
     fig = _captured(monkeypatch, figures_coeff, figures_coeff.alpha_sigma_c, data)
@@ -283,3 +283,38 @@ def test_no_zero_is_drawn_where_the_verdict_says_the_line_shows_none(data, monke
     fig = _captured(monkeypatch, figures_coeff, figures_coeff.alpha_sigma_c, data)
     zeros = [ln for ln in fig.axes[2].get_lines() if ln.get_color() == "C1"]
     assert [ln for ln in zeros if 1.0 in np.asarray(ln.get_xdata(), float)]
+
+
+def test_the_loss_figure_shows_the_span_it_names(data, monkeypatch):
+    """The span's ends set the sigma~ axis where a group was run there (and that group is drawn),
+    and an end beyond every sigma~ run is named at the panel's edge instead of widening it."""
+    def panels(fig):
+        out = {}
+        for ax in fig.axes:
+            m = re.search(r"= ([\d.]+):", ax.get_title())
+            if m and ax.get_ylabel() == "adhesion coefficient c":
+                out[float(m.group(1))] = ax
+        return out
+
+    far = {k: max(g.sigma_tilde for g in st.groups) for k, st in data.studies.items()}
+    # the window around the bracket ends at its upper end: the last sigma~ run lies outside it
+    monkeypatch.setattr(figures_loss, "RIGHT", 1.0)
+    monkeypatch.setattr(figures_loss, "MIN_POINTS", 1)
+    monkeypatch.setattr(figures_loss, "measured_span", lambda st: (st.loss_bracket[0],
+                                                                   far[st.k_tilde]))
+    fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
+    beyond = 0
+    for k, ax in panels(fig).items():
+        beyond += far[k] > data.studies[k].loss_bracket[1]
+        assert ax.get_xlim()[1] >= far[k]                  # the axis reaches the span's end
+        xs = np.concatenate([np.asarray(ln.get_xdata(), float) for ln in ax.get_lines()
+                             if ln.get_marker() not in ("None", "", None)] + [[]])
+        assert np.isclose(xs, far[k]).any()                # the group there is drawn
+        assert not [t for t in ax.texts if t.get_text().startswith("span to")]
+    assert beyond >= 2
+    monkeypatch.setattr(figures_loss, "measured_span", lambda st: (st.loss_bracket[0],
+                                                                   10 * far[st.k_tilde]))
+    fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
+    for k, ax in panels(fig).items():
+        assert ax.get_xlim()[1] <= 1.1 * far[k]
+        assert [t for t in ax.texts if t.get_text() == f"span to {10 * far[k]:.3g} →"]

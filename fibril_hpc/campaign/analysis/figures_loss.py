@@ -26,6 +26,8 @@ COLUMNS = 4
 #: than MIN_POINTS groups
 LEFT, RIGHT, MIN_POINTS = 3.0, 1.5, 4
 BRACKET_C, LOSS_C, LAW_C, LOST_C = "0.55", "C3", "C0", "k"
+#: characters of a panel title's line that fit its width (longer ones are broken)
+TITLE_LINE = 52
 
 
 def _window(st):
@@ -127,9 +129,13 @@ def _title(k, st) -> str:
         head = f"{KT} = {k:g}: {SIG}$_c$ = {fmt_ci(st.sigma_loss, st.sigma_loss_ci)} (measured)"
     z, _, rel, why = law_zero(st)
     if not math.isfinite(z):
-        return head + f"\nline's zero: none ({page_text(NO_ZERO_WORDS[why])})"
-    where = RELATION_WORDS[rel].split(" (")[0] if rel else ""
-    return head + f"\nline's zero α/β = {z:.3g}" + (f", {where}" if where else "")
+        tail = f"line's zero: none ({page_text(NO_ZERO_WORDS[why])})"
+    else:
+        where = RELATION_WORDS[rel].split(" (")[0] if rel else ""
+        tail = f"line's zero α/β = {z:.3g}" + (f", {where}" if where else "")
+    if len(tail) > TITLE_LINE:              # wider than a panel: its reason on a line of its own
+        tail = tail.replace(" (", "\n(", 1) if " (" in tail else tail.replace(", ", ",\n", 1)
+    return head + "\n" + tail
 
 
 def _not_drawn(data) -> str:
@@ -169,10 +175,20 @@ def loss(data, out_dir, name="sigma_c_loss.png"):
         top, bot = axes[2 * (i // ncol), i % ncol], axes[2 * (i // ncol) + 1, i % ncol]
         gs = _window(st)
         xs = [g.sigma_tilde for g in gs]
-        x1 = max(xs) * 1.08                     # the data's range, never the law's zero
+        # the data's range (never the law's zero), widened to the span's ends where a group
+        # run lies there; an end beyond every sigma~ run is named at the edge instead
+        run = [g.sigma_tilde for g in st.groups]
+        ends = [e for e in measured_span(st) if math.isfinite(e)]
+        inside = [e for e in ends if min(run) <= e <= max(run)]
+        x0_, x1 = min(xs + inside), max(xs + inside) * 1.08
+        gs = [g for g in st.groups if g.sigma_tilde > 0 and x0_ <= g.sigma_tilde <= x1 / 1.08]
         for ax in (top, bot):
-            ax.set_xlim(min(xs) - 0.08 * (x1 - min(xs)), x1)
+            ax.set_xlim(x0_ - 0.08 * (x1 - x0_), x1)
             _marks(ax, st)
+        for e in ends:
+            if e > x1:
+                top.annotate(f"span to {e:.3g} →", xy=(0.98, 0.96), xycoords="axes fraction",
+                             ha="right", va="top", fontsize=8, color="0.35")
         _c_panel(top, st, gs)
         _plateau_panel(bot, st, gs, data.floor)
         top.set_title(_title(k, st), fontsize=9)
