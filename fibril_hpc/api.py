@@ -202,12 +202,12 @@ def simulate(scene: Scene, *, model: Model | None = None,
 def _observer(model: Model, progress, state: dict):
     """The path driver's observer that hands ``progress`` the point in normalised units."""
     sc = model.scaling
+    n_pillars = model.geometry.n_groups
 
     def observe(phase, d, F, events, pillars):
         progress({"phase": phase, "preload": state.get("preload"), "d_tilde": d / sc.d_c,
                   "F_tilde": F / sc.F_c, "events": events, "pillars_in_contact": pillars,
                   "n_pillars": n_pillars})
-    n_pillars = model.geometry.n_groups
     return observe
 
 

@@ -49,7 +49,8 @@ class Scene:
     ----------
     n_side : int
         Pillars per side of the square lattice (n = n_side**2 pillars). Default 18; 1 is a single
-        pillar. Range [1, 1000] (the grid and memory checks decide what runs). Or give ``n_pillars`` instead (not both).
+        pillar. Range [1, 1000] (the grid and memory checks decide what runs). Or give
+        ``n_pillars`` instead (not both).
     phi : float
         Nominal filling ratio n*pi*D**2/(4*A0). Default 0.16. Range (0, pi/4).
     k_tilde : float
