@@ -191,6 +191,21 @@ def test_grid_limit_uses_the_scene_lattice(tmp_path, capsys):
     assert memory_estimate(square)[1] == 7800 <= MAX_GRID_SIDE
 
 
+def test_a_brush_of_a_million_pillars_is_told_what_its_grid_would_need(tmp_path, capsys):
+    """n_side 1000 at `fast` reaches the grid check (not the n_side range), whose one line says
+    what the padded FFT grid would need at the memory check's rate."""
+    from fibril_hpc.inputs.limits import BYTES_PER_FFT_ELEMENT
+
+    scene = tmp_path / "scene.yaml"
+    scene.write_text("n_side: 1000\npreset: fast\n")
+    assert run_main([str(scene)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("fibril-run: error: elements_per_diameter")
+    need = BYTES_PER_FFT_ELEMENT * 26880**2 / 2**30
+    assert "gives 13000 for n_side=1000" in err[0] and "padded FFT grid of 26880 x 26880" in err[0]
+    assert f"about {need:.0f} GiB" in err[0] and round(need) == 48
+
+
 # ------------------------------------------------------------------------------ stiffness
 def test_per_pillar_stiffness_equal_values_and_a_vanishing_spread_are_one_stiffness(opts):
     one = simulate(small(opts))
