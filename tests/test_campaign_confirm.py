@@ -24,7 +24,10 @@ def test_confirm_local_campaign_runs_and_keeps_the_option(tmp_path, monkeypatch)
     def spy(scene, **kw):           # what the runner hands the solver, and what it did
         r = run(scene, **kw)
         seen.append((scene.solver.confirm, r.stats.get("confirmed_local", 0)))
+        stats.append(r.stats)
         return r
+
+    stats = []
 
     monkeypatch.setattr(execute, "simulate", spy)
     spec = load_spec(write_grid(tmp_path, GRID))
@@ -36,6 +39,11 @@ def test_confirm_local_campaign_runs_and_keeps_the_option(tmp_path, monkeypatch)
     for r in recs.values():
         assert r["status"] == "done"
         assert yaml.safe_load(r["scene_yaml"])["solver"]["confirm"] == "local"
+        # how its simulate call confirmed, and the bound it carries (record.py)
+        st = stats[0]
+        assert (r["confirmed_local"], r["confirmed_global"]) == (st["confirmed_local"],
+                                                                  st["confirmed_global"])
+        assert r["force_bound_tilde"] == st["force_bound_tilde"] > 0
 
     ref = dict(GRID, scene=dict(GRID["scene"], solver={"fft_threads": 1, "max_wall_s": 120}))
     ref_spec = load_spec(write_grid(tmp_path, ref, name="ref.yaml"))
@@ -44,3 +52,9 @@ def test_confirm_local_campaign_runs_and_keeps_the_option(tmp_path, monkeypatch)
     assert not {j.key for j in ref_spec.jobs} & {j.key for j in spec.jobs}
     assert "confirm" not in key_fields(ref_spec.task_scene(ref_spec.jobs[:1]))["solver"]
     assert key_fields(spec.task_scene(spec.jobs[:1]))["solver"]["confirm"] == "local"
+    # a reference record stores none of the local confirmation's fields (the layout of old files)
+    ref_spec.output = str(tmp_path / "ref.h5")
+    assert run_serial(ref_spec, progress=False) == 0
+    _, ref_recs, _ = read_records(ref_spec.output, curves=False)
+    for r in ref_recs.values():
+        assert not {"confirmed_local", "confirmed_global", "force_bound_tilde"} & set(r)

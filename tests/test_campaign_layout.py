@@ -33,6 +33,8 @@ CURVES = {"d_tilde", "F_tilde", "contact_fraction", "n_pillars_in_contact"}
 MACHINE_ATTRS = {"k_machine": float, "jumps": int, "F_jump": float,
                  "d_machine_tilde_at_F_A": float}
 MACHINE_CURVES = {"d_machine_tilde"}
+# added by issue 35: stored ONLY in records of a job solved with solver.confirm: local
+CONFIRM_ATTRS = {"confirmed_local": int, "confirmed_global": int, "force_bound_tilde": float}
 KEYS = ["52d55445e650803d", "6cdb31efcacc928f", "9a5a5bc296898b92", "03f94282c0d232fd"]
 DONE_IN_FIXTURE = {"9a5a5bc296898b92", "03f94282c0d232fd"}
 CAMPAIGN_HASH = "673945ce0c7e0c12a6d676aa9c92a731dba3875c381a754498ccb8226d599000"
@@ -117,16 +119,17 @@ def test_record_schema_derives_every_list():
         JobRecord,
     )
 
-    assert set(SCALAR_KEYS) == set(JOB_ATTRS) | set(MACHINE_ATTRS)
+    assert set(SCALAR_KEYS) == set(JOB_ATTRS) | set(MACHINE_ATTRS) | set(CONFIRM_ATTRS)
     assert set(CURVE_KEYS) == CURVES and set(OPTIONAL_CURVE_KEYS) == MACHINE_CURVES
     # the CSV header / load_campaign table of 0.1.0, in its order, then (deliberately, issue 11)
-    # the compliant machine's columns appended at the end: a reader of the old columns by
-    # position still finds them where they were
+    # the compliant machine's columns appended at the end, then issue 35's local confirmation's:
+    # a reader of the old columns by position still finds them where they were
     assert COLUMNS == ("key", "k_tilde", "sigma_tilde", "preload_kind", "preload", "seed",
                        "status", "message", "F_P", "F_A", "d_tilde_max", "d_tilde_at_F_A",
                        "n_pillars_in_contact_max", "events", "wall_s", "cg_iterations",
                        "cg_solves", "fft_pairs", "group_size", "rank", "host", "finished",
-                       "record_id", "k_machine", "jumps", "F_jump", "d_machine_tilde_at_F_A")
+                       "record_id", "k_machine", "jumps", "F_jump", "d_machine_tilde_at_F_A",
+                       "confirmed_local", "confirmed_global", "force_bound_tilde")
     with h5py.File(os.path.join(DATA, "campaign_v1.h5"), "r") as fh:
         g = fh["jobs"]["9a5a5bc296898b92"]
         stored = {k: v for k, v in g.attrs.items()}

@@ -178,8 +178,9 @@ def column_types() -> dict:
             for f in fields(JobRecord) if f.name in COLUMNS}
 
 
-#: int columns that may be missing (record.py: stored only with a compliant machine)
-OPTIONAL_INTS = ("jumps",)
+#: int columns that may be missing (record.py: stored only with a compliant machine, or with
+#: ``solver.confirm: local``)
+OPTIONAL_INTS = ("jumps", "confirmed_local", "confirmed_global")
 
 
 def fill_k_machine(rec: dict) -> dict:

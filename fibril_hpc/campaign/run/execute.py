@@ -88,6 +88,10 @@ def execute_task(task, campaign_hash: str, operators=None, rank: int = 0, stop=N
             scene_yaml=scene_to_yaml(task.scene.replace(**{job.preload_kind: (job.preload,)})),
             discretisation=disc,
             k_machine=None if math.isinf(task.scene.k_machine) else float(task.scene.k_machine))
+        if "confirmed_local" in stats:          # solver.confirm: local (record.py: else absent)
+            rec.confirmed_local = int(stats["confirmed_local"])
+            rec.confirmed_global = int(stats["confirmed_global"])
+            rec.force_bound_tilde = float(stats["force_bound_tilde"])
         r = by_preload.get(job.preload)
         if result is not None and r is None:
             rec.message = "the solver returned no result for this preload"

@@ -14,6 +14,11 @@ or one written before they existed. :func:`~fibril_hpc.campaign.analysis.data.lo
 missing ``k_machine`` from the stored scene (``inf`` unless it names one); a missing ``jumps`` is
 a missing value (pandas ``<NA>``, empty CSV cell), a missing float NaN.
 
+The last three (``confirmed_local``, ``confirmed_global``, ``force_bound_tilde``, issue 35) are
+stored, the same way, only for a job solved with ``solver.confirm: local``: how its
+``simulate`` call ended its relaxations (kept on the certified force bound, or by a global
+solve) and the largest bound it accepted; shared by the ``group_size`` jobs of that call.
+
 Records travel as plain dicts (pickled to the MPI master, appended to the journal, read back from
 HDF5); :class:`JobRecord` is their schema and constructor. The names and types are a contract
 with every campaign file ever written (``tests/test_campaign_layout.py`` pins them).
@@ -78,6 +83,12 @@ class JobRecord:
                                         "(compliant machine)")
     d_machine_tilde_at_F_A: float | None = _field(None, "machine displacement Delta~ at pull-off "
                                                         "(compliant machine)")
+    confirmed_local: int | None = _field(None, "relaxations of the simulate call kept on their "
+                                               "certified force bound (solver.confirm: local)")
+    confirmed_global: int | None = _field(None, "relaxations of the simulate call ended by a "
+                                                "global solve (solver.confirm: local)")
+    force_bound_tilde: float | None = _field(None, "largest certified force bound of the "
+                                                   "simulate call, / F_c (solver.confirm: local)")
 
     def to_dict(self) -> dict:
         """The plain dict stored in the journal and HDF5 (``type: job`` marks a job record)."""

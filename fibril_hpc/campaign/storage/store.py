@@ -18,7 +18,9 @@ Layout (open it with h5py; every number is dimensionless, see the ``definitions`
                          checksums existed, see fibril_hpc/campaign/storage/integrity.py);
                          only with a compliant machine (k_machine < inf; absent otherwise and in
                          older records): k_machine, jumps, F_jump (tension at the jump-off of the
-                         final separation), d_machine_tilde_at_F_A
+                         final separation), d_machine_tilde_at_F_A; only with
+                         solver.confirm: local: confirmed_local, confirmed_global (relaxations
+                         of the simulate call ended each way), force_bound_tilde
         loading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact}   (load to F_P)
         unloading/{d_tilde, F_tilde, contact_fraction, n_pillars_in_contact} (pull-off)
                   (+ d_machine_tilde, the machine's displacement, with a compliant machine)
