@@ -317,4 +317,4 @@ def test_the_loss_figure_shows_the_span_it_names(data, monkeypatch):
     fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
     for k, ax in panels(fig).items():
         assert ax.get_xlim()[1] <= 1.1 * far[k]
-        assert [t for t in ax.texts if t.get_text() == f"span to {10 * far[k]:.3g} →"]
+        assert [t for t in ax.texts if t.get_text() == f"span to {10 * far[k]:.4g} →"]

@@ -187,7 +187,7 @@ def loss(data, out_dir, name="sigma_c_loss.png"):
             _marks(ax, st)
         for e in ends:
             if e > x1:
-                top.annotate(f"span to {e:.3g} →", xy=(0.98, 0.96), xycoords="axes fraction",
+                top.annotate(f"span to {e:.4g} →", xy=(0.98, 0.96), xycoords="axes fraction",
                              ha="right", va="top", fontsize=8, color="0.35")
         _c_panel(top, st, gs)
         _plateau_panel(bot, st, gs, data.floor)
@@ -205,6 +205,7 @@ def loss(data, out_dir, name="sigma_c_loss.png"):
                  f"{SIG}; grey the bracket, red the measured {SIG}$_c$" + _not_drawn(data),
                  fontsize=10)
     if handles:
+        # as many legend columns as the panels' width holds (two panels: three)
         fig.legend(list(handles.values()), list(handles), loc="outside lower center",
-                   ncol=min(5, len(handles)), fontsize=8)
+                   ncol=min(5 if ncol >= 3 else 3, len(handles)), fontsize=8)
     return save(fig, out_dir, name)
