@@ -142,7 +142,8 @@ def test_dry_run_writes_nothing(tmp_path, capsys):
     from fibril_hpc.campaign.plan.spec import load_spec
     from fibril_hpc.inputs.limits import memory_estimate
 
-    need = memory_estimate(load_spec(grid).base)[0]
+    spec = load_spec(grid)
+    need = memory_estimate(spec.base, spec.path_preloads())[0]
     line = next(ln for ln in out.splitlines() if ln.startswith("memory: "))
     assert f"about {need / 2**30:.2g} GiB per rank" in line and "available now" in line
 

@@ -203,7 +203,7 @@ def test_a_brush_of_a_million_pillars_is_told_what_its_grid_would_need(tmp_path,
     assert len(err) == 1 and err[0].startswith("fibril-run: error: elements_per_diameter")
     need = BYTES_PER_FFT_ELEMENT * 26880**2 / 2**30
     assert "gives 13000 for n_side=1000" in err[0] and "padded FFT grid of 26880 x 26880" in err[0]
-    assert f"about {need:.0f} GiB" in err[0] and round(need) == 48
+    assert f"about {need:.0f} GiB" in err[0] and round(need) == 27
 
 
 # ------------------------------------------------------------------------------ stiffness

@@ -147,6 +147,6 @@ def test_memory_estimate_covers_the_moment_level():
     kept, peak, geom = traced_coarse_bytes(scene, MomentTwoLevelPreconditioner, 30)
     need = moment_bytes(geom.n_groups, geom.n_active)
     assert 3 * 8 * (3 * geom.n_groups)**2 < kept + peak <= need, (kept, peak, need)
-    n = memory_estimate(scene)[1]
     block = scene.replace(solver=scene.solver.replace(preconditioner="block"))
-    assert memory_estimate(scene)[0] - memory_estimate(block)[0] == moment_bytes(64, n * n)
+    assert memory_estimate(scene)[0] - memory_estimate(block)[0] == moment_bytes(
+        64, geom.n_active)

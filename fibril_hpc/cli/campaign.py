@@ -109,7 +109,8 @@ def cmd_run(args) -> int:
         from ..inputs.limits import check_memory
 
         # before any operator is built; a grid sweeping n_side: its largest brush (the base)
-        check_memory(spec.base, field="sweep.n_side" if "n_side" in spec.sweep else "scene")
+        check_memory(spec.base, field="sweep.n_side" if "n_side" in spec.sweep else "scene",
+                     preloads=spec.path_preloads())
     comm = connect(serial=args.serial)
     rank = 0 if comm is None else comm.Get_rank()
     if args.dry_run:
@@ -160,7 +161,7 @@ def _print_plan(spec, retry_failed: bool) -> None:
           f"{pl.elements_per_diameter:.2f} elements per pillar diameter ({pl.elements_per_pillar} in "
           f"a pillar's footprint), {pl.fft_pair_s * 1e3:.3f} ms per FFT "
           f"pair with {spec.base.solver.threads} thread(s)")
-    need = memory_estimate(spec.base)[0]
+    need = memory_estimate(spec.base, spec.path_preloads())[0]
     avail = available_memory()
     print(f"memory: about {need / 2**30:.2g} GiB per rank (estimated"
           + (f"; {avail / 2**30:.1f} GiB available now" if avail is not None else "") + ")")

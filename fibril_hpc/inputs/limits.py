@@ -5,15 +5,17 @@ validation of ``fibril-run``, ``fibril-campaign run`` and ``--dry-run`` alike, b
 operator is built or a job is enumerated.
 
 Memory model: one ``simulate`` call holds the FFT operator and its work arrays on the padded
-m x m grid plus per-element solver vectors; the peak resident memory measured on this machine
-grew by 54 and 41 bytes per m^2 (m = 2160: +253 MB, m = 3840: +607 MB, ``simulate`` of one
-preload; ``python benchmarks/scene_memory.py 40 12`` and ``60 14``, 2026-11-23; 59 and 56 before
-the FFT pair's column stage ran in blocks and stopped holding three m x (m/2+1) spectra).
-The estimate is :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2 +
-:data:`BASE_BYTES`, plus the coarse level of the preconditioner the scene gets
-(``solver.preconditioner``, or what ``auto`` takes): :func:`coarse_bytes` or
-:func:`moment_bytes` for the dense levels (pillar x pillar arrays that grow with n_side^4, not
-with the grid), :func:`lattice_bytes` for the lattice level (linear in pillars and elements).
+m x m grid, the solver's per-element vectors, the coarse level of its preconditioner and one
+saved state per preload of its loading path. Measured (``python benchmarks/scene_memory.py``,
+16 scenes from m = 960 to 16 384, 32 400 to 10.9 million active elements, 2026-11-26,
+benchmarks/NOTES.md "The memory check, measured"): once the coarse level is taken off, the peak
+resident memory of the whole process is 150-230 MiB plus 28-36 bytes per m^2. The estimate is
+:data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2, plus the coarse
+level the scene gets (``solver.preconditioner``, or what ``auto`` takes): :func:`coarse_bytes`
+or :func:`moment_bytes` for the dense levels (pillar x pillar arrays that grow with n_side^4,
+not with the grid), :func:`lattice_bytes` for the lattice level (linear in pillars and
+elements), each on the scene's own active elements (pillars x footprint), plus
+:func:`snapshot_bytes` for the preload snapshots a grouped loading path keeps.
 It is compared with the memory available now: the least of ``MemAvailable`` of
 ``/proc/meminfo``, what the process's own cgroup (v1 or v2, found through ``/proc/self/cgroup``,
 and each parent) leaves, and the address space left under ``RLIMIT_AS``;
@@ -34,10 +36,10 @@ from ..solve.factory import auto_kind
 MAX_GRID_SIDE = 8192
 #: most jobs of one campaign grid
 MAX_JOBS = 1_000_000
-#: peak bytes per element of the padded FFT grid (41-54 measured, see the module docstring)
-BYTES_PER_FFT_ELEMENT = 72
-#: the interpreter, numba, FFTW and the libraries
-BASE_BYTES = 128 << 20
+#: peak bytes per element of the padded FFT grid (28-36 measured, see the module docstring)
+BYTES_PER_FFT_ELEMENT = 40
+#: the interpreter, numba, FFTW, the libraries and a run's fixed costs (150-230 MiB measured)
+BASE_BYTES = 256 << 20
 
 
 def check_grid(n_side: int, phi: float, elements_per_diameter: float,
@@ -108,12 +110,33 @@ LATTICE_NODES_PER_PILLAR = 16
 LATTICE_BYTES_PER_NODE = 320
 
 
-def lattice_bytes(n_pillars: int, n_active: int) -> int:
+def lattice_bytes(n_pillars: int, n_active: int,
+                  nodes_per_pillar: int = LATTICE_NODES_PER_PILLAR) -> int:
     """Peak bytes of the lattice coarse level (:mod:`fibril_hpc.solve.lattice`) on
-    ``n_pillars`` pillars with ``n_active`` active elements (its block-Jacobi level not
-    included)."""
-    return ((8 * LATTICE_VALUES_PER_PILLAR + LATTICE_NODES_PER_PILLAR * LATTICE_BYTES_PER_NODE)
+    ``n_pillars`` pillars with ``n_active`` active elements and ``nodes_per_pillar`` nodes of the
+    padded lattice per pillar (at most :data:`LATTICE_NODES_PER_PILLAR`; 4 on a square lattice);
+    its block-Jacobi level not included."""
+    return ((8 * LATTICE_VALUES_PER_PILLAR + nodes_per_pillar * LATTICE_BYTES_PER_NODE)
             * n_pillars + LATTICE_BYTES_PER_ELEMENT * n_active)
+
+
+#: bytes per active element of one preload snapshot a loading path keeps until its branch is
+#: pulled off: p, u, p1, u1 as float64 and the attached set (33, ``records.Snapshot``), and what
+#: the unloading branches allocate beside them (a path through 7 preloads measured 370-400 bytes
+#: per active element above one through a single preload, 48 x 7 + 67 = 403)
+SNAPSHOT_BYTES_PER_ELEMENT = 48
+#: bytes per active element of the driver's state saved while a snapshot is taken ahead (eight
+#: float64 vectors and three uint8 sets; ``snapshots.SnapshotMixin._STATE``)
+SAVED_STATE_BYTES_PER_ELEMENT = 67
+
+
+def snapshot_bytes(n_preloads: int, n_active: int) -> int:
+    """Peak bytes of the preload snapshots of one loading path through ``n_preloads`` preloads
+    on ``n_active`` active elements: all are kept until the unloading branches run, plus the
+    saved state while the last is taken."""
+    if n_preloads < 1:
+        return 0
+    return (SNAPSHOT_BYTES_PER_ELEMENT * n_preloads + SAVED_STATE_BYTES_PER_ELEMENT) * n_active
 
 
 def uses_coarse_level(scene) -> bool:
@@ -125,7 +148,8 @@ def uses_coarse_level(scene) -> bool:
 def coarse_level_bytes(scene, fft_size: int, n_active: int) -> int:
     """Peak bytes of the coarse level ``scene``'s solver builds on an FFT of side ``fft_size``
     (0 when it builds none): the one ``auto`` takes (:func:`~fibril_hpc.solve.factory.auto_kind`;
-    a scene's pillars always lie on a lattice), or the one asked for."""
+    a scene's pillars always lie on a lattice), or the one asked for. A square lattice pads to
+    4 nodes per pillar; other lattices are bounded by :data:`LATTICE_NODES_PER_PILLAR`."""
     if not uses_coarse_level(scene):
         return 0
     ng = scene.n_side**2
@@ -133,18 +157,24 @@ def coarse_level_bytes(scene, fft_size: int, n_active: int) -> int:
     if kind == "auto":
         kind = auto_kind(ng, fft_size)
     if kind == "lattice":
-        return lattice_bytes(ng, n_active)
+        return lattice_bytes(ng, n_active, 4 if scene.lattice == "square"
+                             else LATTICE_NODES_PER_PILLAR)
     if kind == "moments":
         return moment_bytes(ng, n_active)
     return coarse_bytes(ng, n_active)
 
 
-def memory_estimate(scene) -> tuple[int, int, int]:
-    """(estimated peak bytes of one ``simulate`` call, grid side, FFT side) of ``scene``."""
-    n = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice).grid_side
+def memory_estimate(scene, preloads: int | None = None) -> tuple[int, int, int]:
+    """(estimated peak bytes of one ``simulate`` call, grid side, FFT side) of ``scene`` on a
+    loading path through ``preloads`` preloads (default: the scene's own)."""
+    lat = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice)
+    n = lat.grid_side
     m = padded_size(n)
+    active = scene.n_side**2 * lat.elements_per_pillar
+    if preloads is None:
+        preloads = len(scene.preloads)
     need = BYTES_PER_FFT_ELEMENT * m * m + BASE_BYTES
-    need += coarse_level_bytes(scene, m, n * n)        # n^2 bounds the active elements
+    need += coarse_level_bytes(scene, m, active) + snapshot_bytes(preloads, active)
     return need, n, m
 
 
@@ -240,9 +270,11 @@ def available_memory(proc: str = "/proc", sys_fs: str = "/sys/fs/cgroup") -> int
     return avail
 
 
-def check_memory(scene, *, available: int | None = None, field: str = "scene") -> int:
-    """The estimate, or a ConfigError when it exceeds the memory available."""
-    need, n, m = memory_estimate(scene)
+def check_memory(scene, *, available: int | None = None, field: str = "scene",
+                 preloads: int | None = None) -> int:
+    """The estimate (on a path through ``preloads`` preloads; default: the scene's own), or a
+    ConfigError when it exceeds the memory available."""
+    need, n, m = memory_estimate(scene, preloads)
     avail = available_memory() if available is None else available
     if avail is not None and need > avail:
         raise ConfigError(field, f"{scene.n_side}x{scene.n_side} pillars on a {n}^2 grid "
@@ -265,5 +297,6 @@ def check_job_count(counts: dict) -> int:
     return total
 
 
-__all__ = ["check_grid", "check_memory", "check_job_count", "memory_estimate", "coarse_bytes",
+__all__ = ["check_grid", "check_memory", "check_job_count", "memory_estimate", "snapshot_bytes",
+           "coarse_bytes",
            "moment_bytes", "available_memory", "MAX_GRID_SIDE", "MAX_JOBS"]

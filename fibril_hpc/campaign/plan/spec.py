@@ -277,6 +277,14 @@ class CampaignSpec:
         for js in groups.values():
             yield tuple(sorted(js, key=lambda j: j.preload))
 
+    def path_preloads(self) -> int:
+        """The most preloads one task (one loading path, one ``simulate`` call) of this grid
+        holds: what a rank keeps a snapshot of each of (``F_P: auto``: round 0's; the later
+        rounds run fewer per path)."""
+        if not self.group_preloads:
+            return 1
+        return max(1, len(self.auto.start if self.auto is not None else self.preloads))
+
     def n_tasks(self) -> int:
         """How many tasks (loading paths) the whole grid has, counted without building them."""
         if not self.group_preloads:
