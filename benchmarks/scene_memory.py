@@ -6,9 +6,9 @@ The memory model of ``fibril_hpc/inputs/limits.py`` comes from this. Usage:
 [MAX_WALL_S]]]``: one preload (F~_P = 0.3), stopped after MAX_EVENTS contact events, 3 unless
 given (the operator and the solver's arrays are all allocated by then); with PRELOADS > 1 a
 grouped path through F~_P = 0.002, 0.004, ... (PRELOADS of them, one snapshot kept per preload
-until its branch runs), stopped by MAX_WALL_S. Prints one line of ``key=value`` fields: the grid, its active elements,
-the peak RSS of the whole process and its growth over the call, and the estimate that
-``fibril-run`` checks against the memory available.
+until its branch runs), stopped by MAX_WALL_S. Prints one line of ``key=value`` fields: the
+grid, its active elements, the peak RSS of the whole process and its growth over the call, and
+the estimate that ``fibril-run`` checks against the memory available.
 """
 
 import resource
@@ -35,7 +35,8 @@ def main():
     r1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     d = res.discretisation
     m = d["fft_size"]
-    print(f"n_side={n_side} epd={epd:g} preloads={preloads} grid={d['grid_side']} m={m} active={d['n_active']} "
+    print(f"n_side={n_side} epd={epd:g} preloads={preloads} grid={d['grid_side']} m={m} "
+          f"active={d['n_active']} "
           f"rss_before_MiB={r0 / 2**20:.0f} rss_peak_MiB={r1 / 2**20:.0f} "
           f"growth_B_per_m2={(r1 - r0) / m**2:.1f} peak_B_per_m2={r1 / m**2:.1f} "
           f"estimate_MiB={est / 2**20:.0f} estimate_over_peak={est / r1:.2f} "
