@@ -70,12 +70,17 @@ CONFIRM_LOCAL_PAIRS = {"fast": 0.84, "default": 0.75}
 #: shared machine; benchmarks/NOTES.md, issue 35 item 5).
 CONFIRM_LOCAL_CPU_PER_PAIR = 1.14
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
-#: with the pillar count N_p away from it: ~ N_p^SIZE_GROWTH[0] below, ~ N_p^SIZE_GROWTH[1]
-#: above (the growth table at `default`, one path per size: 8 -> 18 x 18 as N_p^0.87, 18 -> 64 x
-#: 64 as N_p^0.62 with the lattice coarse level; benchmarks/NOTES.md, issue 21). Pairs in
-#: proportion to N_p, as fitted before the coarse levels, gave a 64 x 64 path 2.6x its pairs.
+#: with the pillar count N_p away from it, per preset: ~ N_p^SIZE_GROWTH[p][0] below,
+#: ~ N_p^SIZE_GROWTH[p][1] above. `default` (and `accurate`, not measured apart): the growth
+#: table, one path per size: 8 -> 18 x 18 as N_p^0.87, 18 -> 64 x 64 as N_p^0.62 with the
+#: lattice coarse level (benchmarks/NOTES.md, issue 21; it priced the 100 x 100 curve 1.12x its
+#: 22 691 pairs). `fast` grows slower: 0.62 priced the 64 x 64 and 100 x 100 pillar-scale
+#: paths (F~_P up to 4 and 16) 1.8x and 2.6x their pairs (geometric means) and the 316 x 316
+#: curve about 3.8x; with 0.40 they measure 0.99x, 0.81x and about 0.93x of the price
+#: (benchmarks/price_large.py, NOTES "The dry-run at large brushes"). Pairs in proportion to
+#: N_p, as fitted before the coarse levels, gave a 64 x 64 path 2.6x its pairs.
 SIZE_REF = 324
-SIZE_GROWTH = (0.87, 0.62)
+SIZE_GROWTH = {"fast": (0.87, 0.40), "default": (0.87, 0.62), "accurate": (0.87, 0.62)}
 #: CPU per FFT pair of a campaign's path over the bare timed pair, per preset (CG vectors, the
 #: coarse levels: work that grows with the grid as the pair does) ...
 OVERHEAD = {"fast": 2.35, "default": 2.35, "accurate": 2.3}
@@ -146,7 +151,8 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
     if scene.solver.confirm == "local":
         per *= CONFIRM_LOCAL_PAIRS.get(scene.preset, 1.0)
     n_p = scene.n_side ** 2
-    grow = SIZE_GROWTH[0] if n_p < SIZE_REF else SIZE_GROWTH[1]
+    below, above = SIZE_GROWTH.get(scene.preset, SIZE_GROWTH["default"])
+    grow = below if n_p < SIZE_REF else above
     return per * SIZE_REF * (n_p / SIZE_REF) ** grow * math.sqrt(elements_per_pillar)
 
 
