@@ -2,6 +2,7 @@
 
     python benchmarks/pillar_scale.py --out /tmp/pillar-scale                # 6 ... 36
     python benchmarks/pillar_scale.py --out /tmp/pillar-scale --sides 6 12 18 --ranks 1
+    python benchmarks/pillar_scale.py --out DIR --sides 100 --sigma 0.1 --preloads 4 16
 
 The model's variables are measured against the whole brush (docs/model.md §2): at fixed k~ and
 sigma~ a brush of more pillars is a brush of smaller pillars, rougher and stiffer-springed at the
@@ -44,9 +45,11 @@ sys.path.insert(0, os.path.dirname(HERE))
 from benchmarks.common import write_results  # noqa: E402
 
 
-def grid_of(n: int, ks, sigmas, ref: int, seeds: int, preset: str, phi: float) -> dict:
-    """The campaign grid of the n x n brush of the reference pillars."""
-    return {
+def grid_of(n: int, ks, sigmas, ref: int, seeds: int, preset: str, phi: float,
+            preloads=None) -> dict:
+    """The campaign grid of the n x n brush of the reference pillars (``F_P: auto``, or the
+    fixed ``preloads``)."""
+    grid = {
         "description": f"pillar-scale finite size: n_side {n}, the pillars of the {ref} x {ref} "
                        f"brush (k~ x {ref}/{n}, sigma~ x sqrt({ref}/{n}))",
         "output": f"n{n}.h5",
@@ -57,6 +60,12 @@ def grid_of(n: int, ks, sigmas, ref: int, seeds: int, preset: str, phi: float) -
         "F_P": "auto",
         "seeds": seeds,
     }
+    if preloads:
+        grid["F_P"] = [float(x) for x in preloads]
+        grid["description"] += ("; plateau preloads only (F~_P "
+                                + " and ".join(f"{x:g}" for x in preloads)
+                                + ", where 64 x 64 is flat)")
+    return grid
 
 
 def run_size(out: str, n: int, grid: dict, ranks: int) -> str:
@@ -96,6 +105,9 @@ def main(argv=None) -> int:
     ap.add_argument("--preset", default="fast")
     ap.add_argument("--phi", type=float, default=0.16)
     ap.add_argument("--ranks", type=int, default=2)
+    ap.add_argument("--preloads", type=float, nargs="+", default=None,
+                    help="fixed F~_P instead of F_P: auto (on the plateau: the report reads it "
+                         "from these alone; 100 x 100 ran 4 16)")
     a = ap.parse_args(argv)
     from fibril_hpc.geometry.grid import Lattice
     from fibril_hpc.inputs.presets import preset_values
@@ -104,7 +116,7 @@ def main(argv=None) -> int:
     epd = preset_values(a.preset)["elements_per_diameter"]
     rows = []
     for n in a.sides:
-        grid = grid_of(n, a.k, a.sigma, a.reference, a.seeds, a.preset, a.phi)
+        grid = grid_of(n, a.k, a.sigma, a.reference, a.seeds, a.preset, a.phi, a.preloads)
         got = plateau_rows(run_size(a.out, n, grid, a.ranks))
         phi_d = Lattice.of(n, a.phi, epd, "square").phi_discrete
         norm = (n * n * phi_d) ** 0.25
