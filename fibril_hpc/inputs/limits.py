@@ -298,5 +298,4 @@ def check_job_count(counts: dict) -> int:
 
 
 __all__ = ["check_grid", "check_memory", "check_job_count", "memory_estimate", "snapshot_bytes",
-           "coarse_bytes",
-           "moment_bytes", "available_memory", "MAX_GRID_SIDE", "MAX_JOBS"]
+           "coarse_bytes", "moment_bytes", "available_memory", "MAX_GRID_SIDE", "MAX_JOBS"]
