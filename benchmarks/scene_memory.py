@@ -19,6 +19,20 @@ from fibril_hpc import Scene, simulate
 from fibril_hpc.inputs.limits import memory_estimate
 
 
+def peak_rss() -> int:
+    """Peak resident bytes of this process: ``VmHWM`` of /proc/self/status (reset by exec), or
+    ``ru_maxrss`` where there is none (Linux keeps that one across exec: a child started by a
+    large process, a test run, would report its parent's peak)."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+
 def main():
     """Print one line: the scene, m, peak RSS before/after, bytes per m^2 and the estimate."""
     n_side, epd = int(sys.argv[1]), float(sys.argv[2])
@@ -29,10 +43,10 @@ def main():
     sc = Scene(n_side=n_side, elements_per_diameter=epd, k_tilde=0.01, sigma_tilde=0.5,
                F_P=f_p, solver={"fft_threads": 1, "max_events": events, "max_wall_s": wall})
     est = memory_estimate(sc)[0]
-    r0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    r0 = peak_rss()
     t = time.perf_counter()
     res = simulate(sc)
-    r1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    r1 = peak_rss()
     d = res.discretisation
     m = d["fft_size"]
     print(f"n_side={n_side} epd={epd:g} preloads={preloads} grid={d['grid_side']} m={m} "
