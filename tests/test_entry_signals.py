@@ -94,3 +94,40 @@ def test_sigterm_on_fibril_run_is_one_line_and_143(bin_dir, tmp_path):
 def test_stop_signal_at_every_moment_of_the_start(bin_dir, tmp_path, cmd, delay, sig):
     rc, err = _stop(bin_dir, tmp_path, cmd, delay, sig)
     _check(cmd, rc, err, sig, tmp_path, delay)
+
+
+SWALLOWED = r"""
+import ctypes, os, signal, sys
+from fibril_hpc.cli.common import interruptible
+
+CMP = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_int))
+sent = []
+
+def cmp(a, b):
+    # the stop signal lands while C code (qsort) runs this callback: its exception cannot
+    # propagate through C, as when numba's compiler calls back while caching a kernel
+    if not sent:
+        sent.append(1)
+        os.kill(os.getpid(), signal.SIGTERM)
+    return a[0] - b[0]
+
+@interruptible("prog", "what to do")
+def main():
+    arr = (ctypes.c_int * 64)(*range(64, 0, -1))
+    ctypes.CDLL(None).qsort(arr, 64, ctypes.sizeof(ctypes.c_int), CMP(cmp))
+    for _ in range(10_000_000):      # the work after the callback; the stop must end it
+        pass
+    return 0
+
+sys.exit(main())
+"""
+
+
+def test_a_stop_signal_swallowed_inside_a_c_callback_still_stops_with_one_line():
+    """A SIGTERM whose exception is raised inside a C library's callback (numba's compiler
+    caching a kernel on a cold cache) used to print "Exception ignored ... Traceback" and be
+    lost; the command's guard sends it again, so the command stops with its one line and 143."""
+    r = subprocess.run([sys.executable, "-c", SWALLOWED], capture_output=True, text=True,
+                       timeout=120, env=script_env(ROOT), cwd=ROOT)
+    assert r.returncode == 143, (r.returncode, r.stderr)
+    assert r.stderr == "prog: interrupted (SIGTERM); what to do\n", r.stderr

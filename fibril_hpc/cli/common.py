@@ -147,6 +147,26 @@ def _raise_stopped(signum, frame):  # noqa: ARG001 - the signal handler's signat
     raise Stopped(signum)
 
 
+def _redeliver(previous):
+    """A ``sys.unraisablehook`` that sends a :class:`Stopped` swallowed where Python cannot
+    propagate it (raised inside a C library's callback, as numba's compiler makes while it
+    caches a kernel: Python prints "Exception ignored ..." and goes on) to this process again,
+    so that the command still stops, with its one line; anything else goes to ``previous``.
+    The signal is sent from a short-lived thread: sent from the hook itself, its handler would
+    run inside the hook and be swallowed there. Should it land in a callback again, the hook
+    sends it again."""
+
+    def hook(unraisable):
+        exc = unraisable.exc_value
+        if isinstance(exc, Stopped):
+            again = threading.Timer(0.01, os.kill, (os.getpid(), exc.signum))
+            again.daemon = True
+            again.start()
+            return
+        previous(unraisable)
+    return hook
+
+
 #: the signals a command answers with one line: Ctrl-C, and ``kill`` / a scheduler's stop
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -170,6 +190,9 @@ def interruptible(prog: str, what: str, code: int | None = None):
         @functools.wraps(main)
         def guarded(*args, **kwargs):
             old = _install(_raise_stopped)
+            old_hook = sys.unraisablehook
+            if old:
+                sys.unraisablehook = _redeliver(old_hook)
             try:
                 return main(*args, **kwargs)
             except KeyboardInterrupt as exc:
@@ -178,6 +201,7 @@ def interruptible(prog: str, what: str, code: int | None = None):
                       file=sys.stderr)
                 return stop_status(signum, code)
             finally:
+                sys.unraisablehook = old_hook
                 _restore(old)
         return guarded
     return wrap
