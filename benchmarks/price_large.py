@@ -17,49 +17,46 @@ import os
 import statistics
 import sys
 
-import h5py
 import yaml
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
 from benchmarks.common import write_results  # noqa: E402
+from fibril_hpc.inputs.scene import scene_from_dict  # noqa: E402
 
 
 def tasks_of(path: str) -> list:
     """One dict per task of the campaign file ``path``: its scene (all preloads) and counts."""
+    from fibril_hpc.campaign.storage.store import read_records
+
+    _, records, _ = read_records(path, curves=False)
     groups: dict = {}
-    with h5py.File(path, "r") as f:
-        for key in f["jobs"]:
-            a = f["jobs"][key].attrs
-            if str(a["status"]) != "done":
-                continue
-            scene = yaml.safe_load(str(a["scene_yaml"]))
-            tid = (float(a["k_tilde"]), float(a["sigma_tilde"]), int(a["seed"]),
-                   int(a["fft_pairs"]), int(a["cg_solves"]), int(a["group_size"]),
-                   float(a["wall_s"]))
-            g = groups.setdefault(tid, {"scene": scene, "preloads": [],
-                                        "kind": str(a["preload_kind"])})
-            g["preloads"].append(float(a["preload"]))
+    for a in records.values():
+        if a["status"] != "done":
+            continue
+        tid = (float(a["k_tilde"]), float(a["sigma_tilde"]), int(a["seed"]),
+               int(a["fft_pairs"]), int(a["cg_solves"]), int(a["group_size"]), float(a["wall_s"]))
+        g = groups.setdefault(tid, {"scene_yaml": a["scene_yaml"], "preloads": [],
+                                    "kind": a["preload_kind"]})
+        g["preloads"].append(float(a["preload"]))
     out = []
     for (k, s, seed, pairs, solves, _size, wall), g in groups.items():
-        out.append({"file": os.path.basename(path), "n_side": g["scene"]["n_side"],
-                    "preset": g["scene"].get("preset") or "default", "k_tilde": k,
-                    "sigma_tilde": s, "seed": seed, "preload_kind": g["kind"],
-                    "preloads": ";".join(f"{x:g}" for x in sorted(g["preloads"])),
-                    "pairs": pairs, "cg_solves": solves, "wall_s": wall, "scene": g["scene"]})
+        pre = tuple(sorted(g["preloads"]))
+        scene = scene_from_dict(yaml.safe_load(g["scene_yaml"])).replace(**{g["kind"]: pre})
+        out.append({"file": os.path.basename(path), "n_side": scene.n_side,
+                    "preset": scene.preset, "k_tilde": k, "sigma_tilde": s, "seed": seed,
+                    "preload_kind": g["kind"], "preloads": ";".join(f"{x:g}" for x in pre),
+                    "pairs": pairs, "cg_solves": solves, "wall_s": wall, "scene": scene})
     return out
 
 
 def model_pairs(row: dict) -> float:
     """The dry-run's FFT pairs of the task ``row`` (its scene with all its preloads)."""
-    from fibril_hpc import Scene
     from fibril_hpc.campaign.plan.estimate import task_pairs
     from fibril_hpc.geometry.grid import Lattice
 
-    fields = {k: v for k, v in row["scene"].items() if k not in ("F_P", "d_tilde")}
-    pre = tuple(float(x) for x in row["preloads"].split(";"))
-    scene = Scene(**fields, **{row["preload_kind"]: pre})
+    scene = row["scene"]
     lat = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter, scene.lattice)
     return task_pairs(scene, lat.elements_per_pillar)
 
