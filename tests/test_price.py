@@ -125,6 +125,7 @@ def test_large_brushes_are_priced_near_their_measured_pairs():
     import os
 
     from fibril_hpc import Scene
+    from fibril_hpc.geometry.grid import Lattice
 
     path = sorted(glob.glob(os.path.join(os.path.dirname(__file__), "..", "benchmarks",
                                          "results", "price-large-*.csv")))[-1]
@@ -136,7 +137,9 @@ def test_large_brushes_are_priced_near_their_measured_pairs():
     for r in rows:
         pre = tuple(float(x) for x in r["preloads"].split(";"))
         scene = Scene(n_side=int(r["n_side"]), preset=r["preset"], F_P=pre)
-        ratio = int(r["pairs"]) / estimate.task_pairs(scene, 25)
+        epp = Lattice.of(scene.n_side, scene.phi, scene.elements_per_diameter,
+                         scene.lattice).elements_per_pillar
+        ratio = int(r["pairs"]) / estimate.task_pairs(scene, epp)
         assert 0.4 <= ratio <= 2.5, (r["n_side"], r["k_tilde"], r["preloads"], ratio)
         logs.append(math.log(ratio))
     assert abs(sum(logs) / len(logs)) <= math.log(1.4)
