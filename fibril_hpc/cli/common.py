@@ -143,7 +143,38 @@ class Stopped(KeyboardInterrupt):
         self.signum = signum
 
 
-def _raise_stopped(signum, frame):  # noqa: ARG001 - the signal handler's signature
+def _importing(frame) -> bool:
+    """Whether ``frame`` runs inside Python's import machinery (a module body, a class body
+    created while importing)."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
+
+
+#: how long a stop signal that lands inside an import waits before it is sent again (seconds)
+IMPORT_RETRY_S = 0.05
+
+
+def _send_again(signum: int, delay: float) -> None:
+    """Send stop signal ``signum`` to this process again after ``delay`` seconds, from a
+    short-lived thread (sent from a handler, it would be handled inside that handler)."""
+    again = threading.Timer(delay, os.kill, (os.getpid(), signum))
+    again.daemon = True
+    again.start()
+
+
+def _raise_stopped(signum, frame):
+    """The guard's handler: raise :class:`Stopped`, except inside an import. An exception
+    raised there can come out as another one (Python 3.11 turns it into "RuntimeError: Error
+    calling __set_name__" when it lands in a class body that uses a descriptor) or not come out
+    at all, so the signal is sent again once the import has had :data:`IMPORT_RETRY_S` to
+    finish; a command imports its heavy libraries (numba, h5py, pyFFTW) lazily, inside its
+    guard."""
+    if _importing(frame):
+        _send_again(signum, IMPORT_RETRY_S)
+        return
     raise Stopped(signum)
 
 
@@ -159,9 +190,7 @@ def _redeliver(previous):
     def hook(unraisable):
         exc = unraisable.exc_value
         if isinstance(exc, Stopped):
-            again = threading.Timer(0.01, os.kill, (os.getpid(), exc.signum))
-            again.daemon = True
-            again.start()
+            _send_again(exc.signum, 0.01)
             return
         previous(unraisable)
     return hook
