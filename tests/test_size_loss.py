@@ -315,3 +315,77 @@ def test_the_page_says_what_the_numbers_say(draws, tmp_path):
     png = figures_size_loss.loss_across_sizes(d, str(tmp_path))
     assert os.path.getsize(png) > 10_000
     assert np.isfinite(draws[0].plateau[8]).all()
+
+
+LOSS_SIGMAS = (0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0)
+
+
+@pytest.mark.parametrize("r", range(3))
+def test_a_loss_at_a_fixed_pillar_roughness_has_no_size_free_sigma(r, tmp_path):
+    """Sizes 16-64 whose loss sits at one sigma / d_c1 (its crossings fall as N^(-1/4) without
+    end): the line P_inf + A N^(-3/4) does not fit near the crossing, and no sigma~_inf is given
+    (the old reading gave 0.21 [0.21, 0.22], a precise number of a limit that does not exist);
+    the page says so and gives the drift instead."""
+    from fibril_hpc.campaign.analysis import figures_size_loss, size_loss_page
+
+    s = sl.size_loss(1.0, st.brushes((16, 32, 64), sigmas=LOSS_SIGMAS, pillars=2.5,
+                                     pillar_ref=16, rng=r), st.PHI, n_boot=40, rng_seed=r)
+    assert s.sigma_inf_kind == sl.NOT_SIZE_FREE and math.isnan(s.sigma_inf)
+    assert all(math.isnan(v) for v in s.sigma_inf_ci)
+    assert {e.sigma_tilde for e in s.extrapolations if e.state == sl.REJECTED} >= {0.2, 0.3}
+    assert s.area_drift.state == sl.FIXED_PILLAR or s.area_drift.q < -0.2
+    line = size_loss_page.headline_line({1.0: s})
+    assert "no size-free σ̃" in line and "N → ∞ extrapolation" not in line
+    assert f"{s.area_drift.q:.2g}" in line and "0.2 (χ²/dof" in line
+    d = SimpleNamespace(size_loss={1.0: s})
+    t = size_loss_page.table(d)
+    inf_row = dict(zip(t.csv_rows[0], t.csv_rows[-1]))
+    assert inf_row["sigma_area"] == "" and inf_row["area_kind"] == sl.NOT_SIZE_FREE
+    assert "none (P∞ + A N^(−3/4) rejected)" in t.page_rows[-1]
+    e = size_loss_page.extrapolation_table(d)
+    assert "**model rejected**" in [row[-1] for row in e.page_rows]
+    assert os.path.getsize(figures_size_loss.loss_across_sizes(d, str(tmp_path))) > 10_000
+
+
+@pytest.mark.parametrize("sizes", [(8, 12, 16), (16, 32, 64)])
+def test_a_loss_at_a_fixed_sigma_keeps_its_size_free_sigma(sizes):
+    """The same four-seed scatter with the loss at a fixed sigma~: the line fits at every
+    sigma~ (no rejection) and sigma~_inf is the truth's, over close and far sizes."""
+    from fibril_hpc.campaign.analysis import size_loss_page
+
+    moving = 0
+    for r in range(4):
+        s = sl.size_loss(1.0, st.brushes(sizes, sigmas=LOSS_SIGMAS, pillars=2.5, rng=r),
+                         st.PHI, n_boot=40, rng_seed=r)
+        assert not [e for e in s.extrapolations if e.state == sl.REJECTED], r
+        assert s.sigma_inf_kind == sl.BRACKET and abs(s.sigma_inf - TRUE_INF) < 0.03
+        # the headline gives the number, and says when the sizes' crossings still move
+        line = size_loss_page.headline_line({1.0: s})
+        assert f"σ̃ = {s.sigma_inf:.3g}" in line
+        assert ("still move" in line) == (sl.FIXED_SIGMA not in s.area_drift.state), line
+        moving += "still move" in line
+    assert moving       # the finite-size term moves them a little, and the intervals see it
+
+
+@pytest.mark.parametrize("lo, chi2, dof, state", [
+    (0.1, 29.9, 1, sl.HOLDS), (0.1, 30.1, 1, sl.REJECTED), (-0.1, 30.1, 1, sl.REJECTED),
+    (-0.1, 59.0, 2, sl.GONE), (0.0, 1.0, 1, sl.GONE), (0.1, 61.0, 2, sl.REJECTED),
+    (math.nan, 1.0, 1, sl.UNKNOWN), (math.nan, 31.0, 1, sl.REJECTED), (0.1, 1e9, 0, sl.HOLDS)])
+def test_the_extrapolation_state(lo, chi2, dof, state):
+    assert sl.extrapolation_state(lo, chi2, dof) == state
+
+
+@pytest.mark.parametrize("rejected, kind", [
+    ((), sl.BRACKET), ((0.3,), sl.NOT_SIZE_FREE), ((0.4,), sl.NOT_SIZE_FREE),
+    ((0.6,), sl.BRACKET), ((0.2,), sl.NOT_SIZE_FREE), ((0.2, 0.6), sl.NOT_SIZE_FREE)])
+def test_sigma_inf_rests_on_the_extrapolations_up_to_its_bracket(rejected, kind):
+    """sigma~_inf is the first crossing of the threshold, read between the two sigma~ whose
+    P_inf bracket it (0.3, 0.4 here): a rejected line at or below the bracket's top leaves it
+    without a number; one above it does not."""
+    sigmas, p_inf = (0.2, 0.3, 0.4, 0.6), (0.4, 0.2, 0.05, 0.0)
+    s = sl.SizeLoss(1.0, st.PHI, (16, 32, 64), sigmas, {}, {}, {}, {})
+    s.extrapolations = [sl.Extrapolation(v, (16, 32, 64), p, state=sl.REJECTED if v in rejected
+                                         else sl.HOLDS) for v, p in zip(sigmas, p_inf)]
+    sl._loss_at(s, "sigma_inf", THR, sigmas, p_inf, [], 4)
+    assert s.sigma_inf_kind == kind and s.sigma_inf_bracket == (0.3, 0.4)
+    assert math.isfinite(s.sigma_inf) == (kind == sl.BRACKET)

@@ -31,7 +31,18 @@ def _sigma_cell(kind: str, sigma: float, ci: tuple, bracket: tuple) -> str:
         return f"> {fmt(bracket[0], '.3g')} (not reached)"
     if kind == sl.ALL_LOST:
         return f"< {fmt(bracket[1], '.3g')} (below every σ̃ run)"
+    if kind == sl.NOT_SIZE_FREE:
+        return "none (P∞ + A N^(−3/4) rejected)"
     return "—"
+
+
+def _not_size_free(s) -> str:
+    """Why a k~ has no size-free per-area sigma~ (its extrapolation rejected), with the drift
+    its crossings do show."""
+    bad = ", ".join(f"{e.sigma_tilde:g} (χ²/dof {e.chi2 / e.dof:.3g})"
+                    for e in s.extrapolations if e.state == sl.REJECTED)
+    return (f"no size-free σ̃: the plateau does not follow P∞ + A N^(−3/4) at σ̃ = {bad}; "
+            f"the per-size crossing moves as N^q, q = {_drift_text(s.area_drift)}")
 
 
 def _drift_cells(dr) -> list:
@@ -122,7 +133,7 @@ def extrapolation_table(d) -> Table:
             t.page_rows.append([f"{k:g}", f"{e.sigma_tilde:g}", ", ".join(map(str, e.n_sides)),
                                 val_ci(e.p_inf, e.p_inf_ci, ".3g"), fmt(e.amplitude, ".3g"),
                                 f"{fmt(e.chi2, '.2g')} ({e.dof})",
-                                f"**{e.state}**" if e.state == sl.GONE else e.state])
+                                f"**{e.state}**" if e.state in (sl.GONE, sl.REJECTED) else e.state])
     return t
 
 
@@ -137,8 +148,14 @@ def headline_line(size_loss: dict) -> str:
                         for c in s.few)
         inf = _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket)
         of = f" (sizes {', '.join(map(str, s.n_sides))})" if own else ""
-        parts.append(f"k̃ = {k:g}{of}: per area (F̃_A = {s.area_threshold:g} in the N → ∞ "
-                     f"extrapolation) σ̃ = {inf}; at {FEW_PILLARS:g} pillars, by n_side, {few}")
+        area = (f"per area (F̃_A = {s.area_threshold:g}) {_not_size_free(s)}"
+                if s.sigma_inf_kind == sl.NOT_SIZE_FREE else
+                f"per area (F̃_A = {s.area_threshold:g} in the N → ∞ extrapolation) σ̃ = {inf}")
+        if s.sigma_inf_kind == sl.BRACKET and s.area_drift.state not in (sl.NOT_MEASURED,) \
+                and sl.FIXED_SIGMA not in s.area_drift.state:
+            # an extrapolated limit from sizes whose crossings have not settled: say so
+            area += f" (the sizes' crossings still move: q = {_drift_text(s.area_drift)})"
+        parts.append(f"k̃ = {k:g}{of}: {area}; at {FEW_PILLARS:g} pillars, by n_side, {few}")
     head = ("Loss across sizes: " if own else "Loss across sizes (sizes " + ", ".join(
         str(n) for n in next(iter(sizes))) + "): ")
     return head + "; ".join(parts) + "."

@@ -44,7 +44,11 @@ least-squares line P(N) = P_inf + A N^(-p) with p = 3/4 (a fixed number of pilla
 scales as N^(-3/4)), weights 1 / (seed sd of the plateau)^2 at each size (floored at
 ``SD_FLOOR`` of the plateau). P_inf's interval: the replicates refitted with the same weights.
 State HOLDS when its interval lies above 0, GONE when it reaches 0 or below, UNKNOWN without an
-interval. **p measured**: one fit of every sigma~ whose groups hold adhesion at every size
+interval, REJECTED when the line, weighted by seed variances (not one seed or no resamples),
+does not fit: chi^2 / dof above ``POOR_CHI2`` (four seeds: a residual over its sd is a t of 3
+dof, t^2 = 30 leaves ~1 %; synthetic losses at a fixed sigma~ stay below 21, at a fixed
+sigma / d_c1 give 60-2 400 over 16-64).
+**p measured**: one fit of every sigma~ whose groups hold adhesion at every size
 (rise resolved or not resolved; a lost group's plateau is a few pillars, N^(-3/4) by
 construction) with its own P_inf and A and one shared p (``scipy.optimize.least_squares``),
 replicates refitted; its state is CONSISTENT when 3/4 lies in p's interval, DIFFERS when not,
@@ -59,7 +63,9 @@ approach as N grows, where they converge), P_inf interpolated linearly in sigma~
 below it; per replicate the same (+inf when a replicate's P_inf never falls to it, 0 when it is
 already at or below it at the smallest sigma~). Kind BRACKET, NO_LOSS or ALL_LOST.
 **sigma~_0**: the same for P_inf = 0 (its upper end is often unbounded: near its zero P_inf
-scatters about 0, and a replicate that stays above 0 never crosses).
+scatters about 0, and a replicate that stays above 0 never crosses). Either is NOT_SIZE_FREE,
+with no number, when a sigma~ up to its bracket's top is REJECTED (a first crossing rests on
+all of them; a loss at a fixed sigma / d_c1 has no sigma~_inf > 0 to read off such a line).
 
 **Pillar variables** (docs/finite-size.md): with N pillars of diameter D on the side L,
 sigma / d_c1 = sigma~ (phi N)^(1/4) and k / (E* D) = k~ sqrt(pi N / (4 phi)); from them
@@ -93,7 +99,11 @@ N_BOOT = 400
 #: crossing kinds
 NO_LOSS, ALL_LOST, NOT_READ = "no loss", "lost at every sigma~", "not read"   # and BRACKET
 #: P_inf states
-HOLDS, GONE, UNKNOWN = "holds", "gone", "unknown"
+HOLDS, GONE, UNKNOWN, REJECTED = "holds", "gone", "unknown", "model rejected"
+#: chi^2 / dof of P(N) = P_inf + A N^(-3/4) above which that line is rejected (module text)
+POOR_CHI2 = 30.0
+#: the kind of sigma~_inf and sigma~_0 where the extrapolation they rest on is rejected
+NOT_SIZE_FREE = "no size-free sigma~"
 #: p states
 CONSISTENT, DIFFERS, NOT_DETERMINED, NOT_FITTED = ("consistent with 3/4", "differs from 3/4",
                                                    "not determined", "not fitted")
@@ -357,8 +367,7 @@ def _extrapolate(out: SizeLoss, reps: dict, n_boot: int) -> None:
         if have_reps:
             r = [fit_line(x, [reps[n][j, i] for n in sizes], w)[0] for j in range(n_boot)]
             e.p_inf_ci = expanded(a, percentile_interval(r), n_min)
-            lo = e.p_inf_ci[0]              # NaN (fewer than two replicates): no interval
-            e.state = HOLDS if lo > 0 else GONE if lo <= 0 else UNKNOWN
+        e.state = extrapolation_state(e.p_inf_ci[0], chi2 if have_reps else math.nan, e.dof)
         out.extrapolations.append(e)
         rows.append((i, w))
     ss = [e.sigma_tilde for e in out.extrapolations]
@@ -382,6 +391,14 @@ def _extrapolate(out: SizeLoss, reps: dict, n_boot: int) -> None:
         out.p_state = exponent_state(out.p, out.p_ci)
 
 
+def extrapolation_state(lo: float, chi2: float, dof: int) -> str:
+    """The state of P_inf with interval lower end ``lo`` (NaN: no interval) from a line of
+    ``chi2`` on ``dof`` degrees of freedom (module text)."""
+    if dof > 0 and chi2 / dof > POOR_CHI2:
+        return REJECTED
+    return HOLDS if lo > 0 else GONE if lo <= 0 else UNKNOWN
+
+
 def exponent_state(p: float, ci: tuple) -> str:
     """The state of a measured exponent ``p`` with interval ``ci`` (module text)."""
     lo, hi = ci
@@ -399,6 +416,10 @@ def _loss_at(out: SizeLoss, name: str, level: float, ss, p_inf, rep_pinf, n_min)
     s0, br = level_crossing(ss, p_inf, level)
     setattr(out, name + "_bracket", br)
     if not math.isfinite(br[0]):
+        return
+    top = br[1]                     # the first crossing rests on every P_inf up to here
+    if any(e.state == REJECTED and e.sigma_tilde <= top for e in out.extrapolations):
+        setattr(out, name + "_kind", NOT_SIZE_FREE)
         return
     setattr(out, name + "_kind", BRACKET if math.isfinite(s0) else
             ALL_LOST if br[0] == 0.0 else NO_LOSS)
@@ -421,10 +442,9 @@ def size_losses(by_n_k: dict, phi: float, n_boot: int = N_BOOT, rng_seed: int = 
 
 __all__ = ["SizeLoss", "Crossing", "Extrapolation", "Drift", "crossing_drift", "drift_state",
            "Q_PILLAR", "Q_SPRING", "LIMITS", "FIXED_SIGMA", "FIXED_PILLAR", "FIXED_SPRING",
-           "NEITHER", "NOT_MEASURED", "pillar_spring", "pillar_reach",
-           "size_loss", "size_losses",
+           "NEITHER", "NOT_MEASURED", "pillar_spring", "pillar_reach", "size_loss", "size_losses",
            "curve_crossing", "level_crossing", "fit_line", "fit_shared_p", "exponent_state",
-           "pillar_sigma",
-           "pillar_k", "P_FEW",
-           "AREA_THRESHOLD", "BRACKET", "NO_LOSS", "ALL_LOST", "NOT_READ", "HOLDS", "GONE",
-           "UNKNOWN", "CONSISTENT", "DIFFERS", "NOT_DETERMINED", "NOT_FITTED", "STEADY", "DRIFTS"]
+           "extrapolation_state", "pillar_sigma", "pillar_k", "P_FEW", "AREA_THRESHOLD",
+           "BRACKET", "NO_LOSS", "ALL_LOST", "NOT_READ", "HOLDS", "GONE", "UNKNOWN", "REJECTED",
+           "POOR_CHI2", "NOT_SIZE_FREE", "CONSISTENT", "DIFFERS", "NOT_DETERMINED", "NOT_FITTED",
+           "STEADY", "DRIFTS"]
