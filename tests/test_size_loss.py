@@ -335,13 +335,14 @@ def test_a_loss_at_a_fixed_pillar_roughness_has_no_size_free_sigma(r, tmp_path):
     assert {e.sigma_tilde for e in s.extrapolations if e.state == sl.REJECTED} >= {0.2, 0.3}
     assert s.area_drift.state == sl.FIXED_PILLAR or s.area_drift.q < -0.2
     line = size_loss_page.headline_line({1.0: s})
-    assert "no size-free σ̃" in line and "N → ∞ extrapolation" not in line
+    assert "no N → ∞ σ̃ read (P∞ + A N^(−3/4) does not fit" in line
+    assert "N → ∞ extrapolation" not in line
     assert f"{s.area_drift.q:.2g}" in line and "0.2 (χ²/dof" in line
     d = SimpleNamespace(size_loss={1.0: s})
     t = size_loss_page.table(d)
     inf_row = dict(zip(t.csv_rows[0], t.csv_rows[-1]))
     assert inf_row["sigma_area"] == "" and inf_row["area_kind"] == sl.NOT_SIZE_FREE
-    assert "none (P∞ + A N^(−3/4) rejected)" in t.page_rows[-1]
+    assert "not read (no N → ∞ limit from these sizes)" in t.page_rows[-1]
     e = size_loss_page.extrapolation_table(d)
     assert "**model rejected**" in [row[-1] for row in e.page_rows]
     assert os.path.getsize(figures_size_loss.loss_across_sizes(d, str(tmp_path))) > 10_000
@@ -389,3 +390,26 @@ def test_sigma_inf_rests_on_the_extrapolations_up_to_its_bracket(rejected, kind)
     sl._loss_at(s, "sigma_inf", THR, sigmas, p_inf, [], 4)
     assert s.sigma_inf_kind == kind and s.sigma_inf_bracket == (0.3, 0.4)
     assert math.isfinite(s.sigma_inf) == (kind == sl.BRACKET)
+
+
+@pytest.mark.parametrize("state, falls", [
+    (sl.FIXED_PILLAR, True), (sl.FIXED_SPRING, True),
+    (f"{sl.FIXED_PILLAR} or {sl.FIXED_SPRING}", True), (sl.FIXED_SIGMA, False),
+    (f"{sl.FIXED_SIGMA} or {sl.FIXED_PILLAR}", False), (sl.NEITHER, False),
+    (sl.NOT_MEASURED, False)])
+def test_a_drift_that_names_only_falling_limits_reads_no_sigma_inf(state, falls):
+    """Crossings drifting as a fixed sigma / d_c1 (or k sigma / F_c1) would, and not as a fixed
+    sigma~, leave no sigma~_inf to read, even where every line fits (close sizes cannot reject
+    it); a drift that a fixed sigma~ allows, or that names no limit, keeps the number."""
+    from fibril_hpc.campaign.analysis import size_loss_page
+
+    assert sl.keeps_falling(state) == falls
+    sigmas, p_inf = (0.2, 0.3, 0.4, 0.6), (0.4, 0.2, 0.05, 0.0)
+    s = sl.SizeLoss(1.0, st.PHI, (16, 32, 64), sigmas, {}, {}, {}, {})
+    s.area_drift = sl.Drift((32, 64), -0.25, (-0.33, -0.12), state)
+    s.extrapolations = [sl.Extrapolation(v, (16, 32, 64), p, state=sl.HOLDS)
+                        for v, p in zip(sigmas, p_inf)]
+    sl._loss_at(s, "sigma_inf", THR, sigmas, p_inf, [], 4)
+    assert (s.sigma_inf_kind == sl.NOT_SIZE_FREE) == falls
+    line = size_loss_page.headline_line({1.0: s})
+    assert ("crossings drift as a limit that keeps falling" in line) == falls

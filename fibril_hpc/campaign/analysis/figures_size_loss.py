@@ -18,7 +18,8 @@ from .figures import FA, KT, SIG, err, legend, save, say, subplots
 
 def loss_across_sizes(data, out_dir, name="loss_across_sizes.png"):
     """One panel per k~: plateau against sigma~ per n_side (seed intervals), P_inf (black,
-    interval band; a sigma~ whose line is rejected a red cross, and then the line dotted), the
+    interval band; a sigma~ whose line is rejected a red cross; where no limit is read, points
+    with intervals and no line), the
     per-area threshold (grey) and the few-pillar thresholds (dotted, the size's colour);
     crossings marked with their intervals on the threshold lines."""
     ks = list(data.size_loss)
@@ -50,15 +51,18 @@ def loss_across_sizes(data, out_dir, name="loss_across_sizes.png"):
             lo = np.array([e.p_inf_ci[0] for e in ex])
             hi = np.array([e.p_inf_ci[1] for e in ex])
             bad = np.array([e.state == sl.REJECTED for e in ex])
-            ax.plot(xs, ys, color="k", lw=1.3 if not bad.any() else 0.8,
-                    ls="-" if not bad.any() else ":")
-            ax.plot(xs[~bad], ys[~bad], "ks", ms=4, label="P∞ (N → ∞, N^(−3/4))")
+            if s.sigma_inf_kind == sl.NOT_SIZE_FREE:
+                # no limit is read: P_inf as points only, no line that would cross a threshold
+                ok = ~bad & np.isfinite(lo) & np.isfinite(hi)
+                ax.errorbar(xs[ok], ys[ok], yerr=[ys[ok] - lo[ok], hi[ok] - ys[ok]], fmt="ks",
+                            ms=4, capsize=2, label="P∞ (N^(−3/4) line), no limit read")
+            else:
+                ax.plot(xs, ys, "ks-", ms=4, lw=1.3, label="P∞ (N → ∞, N^(−3/4))")
+                if np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)):
+                    ax.fill_between(xs, lo, hi, color="0.6", alpha=0.35, lw=0)
             if bad.any():
                 ax.plot(xs[bad], ys[bad], "rx", ms=8, mew=1.5,
                         label=f"P∞ rejected (χ²/dof > {sl.POOR_CHI2:g})")
-            if np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)):
-                ax.fill_between(xs, lo, hi, color="0.6", alpha=0.35 if not bad.any() else 0.15,
-                                lw=0)
         ax.axhline(s.area_threshold, color="0.4", lw=1, ls="--",
                    label=f"per-area threshold {s.area_threshold:g}")
         ax.axhline(0.0, color="0.7", lw=0.6)

@@ -32,17 +32,19 @@ def _sigma_cell(kind: str, sigma: float, ci: tuple, bracket: tuple) -> str:
     if kind == sl.ALL_LOST:
         return f"< {fmt(bracket[1], '.3g')} (below every σ̃ run)"
     if kind == sl.NOT_SIZE_FREE:
-        return "none (P∞ + A N^(−3/4) rejected)"
+        return "not read (no N → ∞ limit from these sizes)"
     return "—"
 
 
 def _not_size_free(s) -> str:
-    """Why a k~ has no size-free per-area sigma~ (its extrapolation rejected), with the drift
-    its crossings do show."""
+    """Why no N -> inf sigma~ is read for a k~ (its extrapolation rejected, or its crossings
+    drifting as a limit that keeps falling), with the drift they show."""
     bad = ", ".join(f"{e.sigma_tilde:g} (χ²/dof {e.chi2 / e.dof:.3g})"
                     for e in s.extrapolations if e.state == sl.REJECTED)
-    return (f"no size-free σ̃: the plateau does not follow P∞ + A N^(−3/4) at σ̃ = {bad}; "
-            f"the per-size crossing moves as N^q, q = {_drift_text(s.area_drift)}")
+    why = (f"P∞ + A N^(−3/4) does not fit at σ̃ = {bad}" if bad else
+           "its per-size crossings drift as a limit that keeps falling")
+    return (f"no N → ∞ σ̃ read ({why}); the per-size crossing moves as N^q, "
+            f"q = {_drift_text(s.area_drift)}")
 
 
 def _drift_cells(dr) -> list:

@@ -76,6 +76,12 @@ def drift_state(q: float, ci: tuple) -> str:
     return " or ".join(inside) if inside else NEITHER
 
 
+def keeps_falling(state: str) -> bool:
+    """Whether a drift ``state`` names only limits whose crossing falls without end in sigma~
+    (a fixed sigma / d_c1 or k sigma / F_c1, not a fixed sigma~): no size-free sigma~ then."""
+    return FIXED_SIGMA not in state and (FIXED_PILLAR in state or FIXED_SPRING in state)
+
+
 def crossing_drift(crossings) -> Drift:
     """q = d ln sigma~ / d ln N over the bracketed crossings of several sizes (module text)."""
     use = [c for c in crossings if c.kind == BRACKET and math.isfinite(c.sigma)]
@@ -97,6 +103,6 @@ def crossing_drift(crossings) -> Drift:
     return d
 
 
-__all__ = ["Drift", "crossing_drift", "drift_state", "Q_PILLAR", "Q_SPRING", "LIMITS",
+__all__ = ["Drift", "crossing_drift", "drift_state", "keeps_falling", "Q_PILLAR", "Q_SPRING", "LIMITS",
            "FIXED_SIGMA", "FIXED_PILLAR", "FIXED_SPRING", "NEITHER", "NOT_MEASURED",
            "pillar_sigma", "pillar_k", "pillar_spring", "pillar_reach"]

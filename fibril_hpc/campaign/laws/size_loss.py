@@ -65,7 +65,7 @@ already at or below it at the smallest sigma~). Kind BRACKET, NO_LOSS or ALL_LOS
 **sigma~_0**: the same for P_inf = 0 (its upper end is often unbounded: near its zero P_inf
 scatters about 0, and a replicate that stays above 0 never crosses). Either is NOT_SIZE_FREE,
 with no number, when a sigma~ up to its bracket's top is REJECTED (a first crossing rests on
-all of them; a loss at a fixed sigma / d_c1 has no sigma~_inf > 0 to read off such a line).
+all of them) or the per-area drift names only limits that keep falling (``keeps_falling``).
 
 **Pillar variables** (docs/finite-size.md): with N pillars of diameter D on the side L,
 sigma / d_c1 = sigma~ (phi N)^(1/4) and k / (E* D) = k~ sqrt(pi N / (4 phi)); from them
@@ -82,8 +82,8 @@ import numpy as np
 from .intervals import expanded, percentile_interval, replicate_sd
 from .reading import FEW_PILLARS, RESOLVED, UNRESOLVED, pillar_floor, read_group
 from .size_drift import (BRACKET, FIXED_PILLAR, FIXED_SIGMA, FIXED_SPRING, LIMITS, NEITHER, NOT_MEASURED,
-                         Q_PILLAR, Q_SPRING, Drift, crossing_drift, drift_state, pillar_k,
-                         pillar_reach, pillar_sigma, pillar_spring)
+                         Q_PILLAR, Q_SPRING, Drift, crossing_drift, drift_state, keeps_falling,
+                         pillar_k, pillar_reach, pillar_sigma, pillar_spring)
 
 NAN2 = (math.nan, math.nan)
 #: the finite-size exponent of a fixed number of pillars' pull-off, in N = n_side^2
@@ -417,8 +417,8 @@ def _loss_at(out: SizeLoss, name: str, level: float, ss, p_inf, rep_pinf, n_min)
     setattr(out, name + "_bracket", br)
     if not math.isfinite(br[0]):
         return
-    top = br[1]                     # the first crossing rests on every P_inf up to here
-    if any(e.state == REJECTED and e.sigma_tilde <= top for e in out.extrapolations):
+    if keeps_falling(out.area_drift.state) or any(    # a first crossing: every P_inf below
+            e.state == REJECTED and e.sigma_tilde <= br[1] for e in out.extrapolations):
         setattr(out, name + "_kind", NOT_SIZE_FREE)
         return
     setattr(out, name + "_kind", BRACKET if math.isfinite(s0) else
