@@ -102,7 +102,7 @@ NO_LOSS, ALL_LOST, NOT_READ = "no loss", "lost at every sigma~", "not read"   # 
 HOLDS, GONE, UNKNOWN, REJECTED = "holds", "gone", "unknown", "model rejected"
 #: chi^2 / dof of P(N) = P_inf + A N^(-3/4) above which that line is rejected (module text)
 POOR_CHI2 = 30.0
-#: the kind of sigma~_inf and sigma~_0 where the extrapolation they rest on is rejected
+#: the kind of sigma~_inf and sigma~_0 when none is read (a rejected line, a falling drift)
 NOT_SIZE_FREE = "no size-free sigma~"
 #: p states
 CONSISTENT, DIFFERS, NOT_DETERMINED, NOT_FITTED = ("consistent with 3/4", "differs from 3/4",
