@@ -179,3 +179,53 @@ def test_a_stop_signal_inside_an_import_stops_with_one_line(tmp_path):
                        timeout=120, env=env, cwd=tmp_path)
     assert r.returncode == 143, (r.returncode, r.stderr)
     assert r.stderr == "prog: interrupted (SIGTERM); what to do\n", r.stderr
+
+
+CALLBACK = """
+import os, signal, time
+
+
+def callback(marker):
+    # as llvmlite's object-cache callbacks, which LLVM calls while numba compiles a kernel: a
+    # stop raised in here would abort it and leave numba without its compiled object
+    os.kill(os.getpid(), signal.SIGTERM)
+    deadline = time.monotonic() + 0.2
+    while time.monotonic() < deadline:
+        pass
+    with open(marker, "w") as fh:
+        fh.write("done")
+    return 0
+"""
+
+CALLING = r"""
+import sys
+from fibril_hpc.cli.common import interruptible
+from llvmlite.cb import callback
+
+@interruptible("prog", "what to do")
+def main():
+    callback(sys.argv[1])
+    for _ in range(10_000_000):      # the work after the callback; the stop must end it
+        pass
+    return 0
+
+sys.exit(main())
+"""
+
+
+def test_a_stop_signal_inside_llvmlite_waits_for_the_callback_to_finish(tmp_path):
+    """A stop that lands in llvmlite's Python code (callbacks LLVM calls while numba compiles
+    and caches a kernel: aborted, numba later fails with "no compiled object yet" or crashes)
+    is sent again after it; the callback finishes and the command stops with its one line."""
+    pkg = tmp_path / "shadow" / "llvmlite"
+    pkg.mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "cb.py").write_text(CALLBACK)
+    env = script_env(ROOT)
+    env["PYTHONPATH"] = str(tmp_path / "shadow") + os.pathsep + env["PYTHONPATH"]
+    marker = tmp_path / "finished"
+    r = subprocess.run([sys.executable, "-c", CALLING, str(marker)], capture_output=True,
+                       text=True, timeout=120, env=env, cwd=tmp_path)
+    assert r.returncode == 143, (r.returncode, r.stderr)
+    assert r.stderr == "prog: interrupted (SIGTERM); what to do\n", r.stderr
+    assert marker.read_text() == "done"

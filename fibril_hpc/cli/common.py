@@ -143,9 +143,17 @@ class Stopped(KeyboardInterrupt):
         self.signum = signum
 
 
-def _importing(frame) -> bool:
-    """Whether ``frame`` runs inside Python's import machinery (a module body, a class body
-    created while importing)."""
+_LLVMLITE = f"{os.sep}llvmlite{os.sep}"
+
+
+def _unsafe(frame) -> bool:
+    """Whether an exception raised in ``frame`` could come out as another one or corrupt what
+    runs below it: inside Python's import machinery (a module body, a class body created while
+    importing), or in llvmlite's Python code (callbacks that LLVM calls while numba compiles and
+    caches a kernel: one aborted there leaves numba without its compiled object, and a later
+    "RuntimeError: no compiled object yet" or a crash)."""
+    if _LLVMLITE in frame.f_code.co_filename:
+        return True
     while frame is not None:
         if frame.f_code.co_filename.startswith("<frozen importlib"):
             return True
@@ -153,7 +161,7 @@ def _importing(frame) -> bool:
     return False
 
 
-#: how long a stop signal that lands inside an import waits before it is sent again (seconds)
+#: how long a stop signal that lands where raising is unsafe waits to be sent again (seconds)
 IMPORT_RETRY_S = 0.05
 
 
@@ -166,13 +174,13 @@ def _send_again(signum: int, delay: float) -> None:
 
 
 def _raise_stopped(signum, frame):
-    """The guard's handler: raise :class:`Stopped`, except inside an import. An exception
-    raised there can come out as another one (Python 3.11 turns it into "RuntimeError: Error
-    calling __set_name__" when it lands in a class body that uses a descriptor) or not come out
-    at all, so the signal is sent again once the import has had :data:`IMPORT_RETRY_S` to
-    finish; a command imports its heavy libraries (numba, h5py, pyFFTW) lazily, inside its
-    guard."""
-    if _importing(frame):
+    """The guard's handler: raise :class:`Stopped`, except where that is unsafe (:func:`_unsafe`):
+    inside an import an exception can come out as another one (Python 3.11 turns it into
+    "RuntimeError: Error calling __set_name__" in a class body that uses a descriptor) or not
+    at all, and in llvmlite's callbacks it breaks numba's compiler. There the signal is sent
+    again after :data:`IMPORT_RETRY_S`; a command imports its heavy libraries (numba, h5py,
+    pyFFTW) lazily, and numba compiles on first use, inside its guard."""
+    if frame is not None and _unsafe(frame):
         _send_again(signum, IMPORT_RETRY_S)
         return
     raise Stopped(signum)
