@@ -162,7 +162,7 @@ def _unsafe(frame) -> bool:
 
 
 #: how long a stop signal that lands where raising is unsafe waits to be sent again (seconds)
-IMPORT_RETRY_S = 0.05
+UNSAFE_RETRY_S = 0.05
 
 
 def _send_again(signum: int, delay: float) -> None:
@@ -178,10 +178,10 @@ def _raise_stopped(signum, frame):
     inside an import an exception can come out as another one (Python 3.11 turns it into
     "RuntimeError: Error calling __set_name__" in a class body that uses a descriptor) or not
     at all, and in llvmlite's callbacks it breaks numba's compiler. There the signal is sent
-    again after :data:`IMPORT_RETRY_S`; a command imports its heavy libraries (numba, h5py,
+    again after :data:`UNSAFE_RETRY_S`; a command imports its heavy libraries (numba, h5py,
     pyFFTW) lazily, and numba compiles on first use, inside its guard."""
     if frame is not None and _unsafe(frame):
-        _send_again(signum, IMPORT_RETRY_S)
+        _send_again(signum, UNSAFE_RETRY_S)
         return
     raise Stopped(signum)
 

@@ -19,9 +19,8 @@ from .figures import FA, KT, SIG, err, legend, save, say, subplots
 def loss_across_sizes(data, out_dir, name="loss_across_sizes.png"):
     """One panel per k~: plateau against sigma~ per n_side (seed intervals), P_inf (black,
     interval band; a sigma~ whose line is rejected a red cross; where no limit is read, points
-    with intervals and no line), the
-    per-area threshold (grey) and the few-pillar thresholds (dotted, the size's colour);
-    crossings marked with their intervals on the threshold lines."""
+    with intervals and no line), the per-area threshold (grey) and the few-pillar thresholds
+    (dotted, the size's colour); crossings marked with their intervals on the threshold lines."""
     ks = list(data.size_loss)
     fig, axes = subplots(1, max(1, len(ks)), figsize=(5.2 * max(1, len(ks)), 4.4), squeeze=False)
     if not ks:

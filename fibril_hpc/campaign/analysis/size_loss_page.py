@@ -153,7 +153,7 @@ def headline_line(size_loss: dict) -> str:
         area = (f"per area (F̃_A = {s.area_threshold:g}) {_not_size_free(s)}"
                 if s.sigma_inf_kind == sl.NOT_SIZE_FREE else
                 f"per area (F̃_A = {s.area_threshold:g} in the N → ∞ extrapolation) σ̃ = {inf}")
-        if s.sigma_inf_kind == sl.BRACKET and s.area_drift.state not in (sl.NOT_MEASURED,) \
+        if s.sigma_inf_kind == sl.BRACKET and s.area_drift.state != sl.NOT_MEASURED \
                 and sl.FIXED_SIGMA not in s.area_drift.state:
             # an extrapolated limit from sizes whose crossings have not settled: say so
             area += f" (the sizes' crossings still move: q = {_drift_text(s.area_drift)})"
