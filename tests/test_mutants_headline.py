@@ -100,6 +100,15 @@ def test_the_headline_of_a_search():
     assert line == "k̃ = 0.1: > 2 (no loss up to the largest σ̃ run)."
     line = hl.headline(_data({0.1: _study(measured=no_loss)}))[1]
     assert line == "k̃ = 0.1: > 2.5 (no loss up to the largest σ̃ run)."
+    # seeds that leave the top group's state uncertain: the headline gives the span they leave
+    loose = loss.Loss(kind=loss.NO_LOSS, bracket=(2.5, INF), span=(2.0, INF), uncertain=(2.5,))
+    line = hl.headline(_data({0.1: _study(measured=loose)}, meta=meta))[1]
+    assert line == ("k̃ = 0.1: > 2.5 (no loss up to the largest σ̃ run, the search's limit; with "
+                    "its seeds σ̃ = 2.5 is not certain: lost in (2, ∞]).")
+    loose = loss.Loss(kind=loss.ALL_LOST, bracket=(0.0, 0.05), span=(0.0, 0.1), uncertain=(0.05,))
+    line = hl.headline(_data({0.1: _study(measured=loose)}))[1]
+    assert line == ("k̃ = 0.1: < 0.05 (lost at every σ̃ run; with its seeds σ̃ = 0.05 is not "
+                    "certain: lost in (0, 0.1]).")
 
 
 def test_the_law_line_of_one_state():

@@ -290,6 +290,32 @@ def test_the_measured_cell_and_span():
     assert lp.measured_cell(_study(measured=loss.Loss())) == "—"
 
 
+def test_a_bound_says_the_span_its_seeds_leave():
+    """No bracket, but the seeds leave the end groups' state uncertain: the bound alone ('> 0.6')
+    claims more than they show; the span is given beside it (and only then)."""
+    m = loss.Loss(kind=loss.NO_LOSS, bracket=(0.6, INF), span=(0.5, INF), uncertain=(0.6,))
+    assert lp.measured_cell(_study(measured=m)) == (
+        "> 0.6 (no loss up to the largest σ̃ run; with its seeds σ̃ = 0.6 is not certain: lost "
+        "in (0.5, ∞])")
+    m = loss.Loss(kind=loss.NO_LOSS, bracket=(0.6, INF), span=(0.0, INF),
+                  uncertain=(0.3, 0.5, 0.6))
+    assert lp.open_note(_study(measured=m)) == (
+        "; with its seeds σ̃ = 0.3, 0.5, 0.6 are not certain: lost in (0, ∞]")
+    m = loss.Loss(kind=loss.NO_LOSS, bracket=(0.6, INF), span=(0.6, INF), uncertain=(0.3,))
+    assert lp.open_note(_study(measured=m)) == ""          # the top group is certain
+    m = loss.Loss(kind=loss.ALL_LOST, bracket=(0.0, 0.15), span=(0.0, 0.3), uncertain=(0.15, 0.3))
+    assert lp.measured_cell(_study(measured=m)) == (
+        "< 0.15 (lost at every σ̃ run; with its seeds σ̃ = 0.15 is not certain: lost in (0, 0.3])")
+    m = loss.Loss(kind=loss.ALL_LOST, bracket=(0.0, 0.15), span=(0.0, 0.15), uncertain=(0.3,))
+    assert lp.open_note(_study(measured=m)) == ""
+    m = loss.Loss(kind=loss.ALL_LOST, bracket=(0.0, 0.15), span=(0.0, 0.3))
+    assert lp.open_note(_study(measured=m)) == (
+        "; with its seeds the end groups are not certain: lost in (0, 0.3]")
+    m = loss.Loss(kind=loss.BRACKET, bracket=(0.9, 1.2), span=(0.5, 2.0), sigma=1.0,
+                  uncertain=(0.9, 1.2))
+    assert lp.open_note(_study(measured=m)) == ""          # a bracket gives its span itself
+
+
 @pytest.mark.parametrize("text, want", [
     ("sigma_tilde: {auto: {start: [0.1, 0.3], max: 2.5}}\n", 2.5),
     ("sigma_tilde: [0.1, 0.3]\n", NAN),

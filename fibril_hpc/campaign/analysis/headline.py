@@ -24,10 +24,10 @@ import math
 from ..laws import loss as _loss
 from ..laws.intervals import dominant
 from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED
-from ..laws.size import DIFFERS, WITHIN
+from ..laws.size import AT_FLOOR, DIFFERS, WITHIN
 from ..laws.verdict import Relation
 from .batching import C_BIAS
-from .loss_page import measured_span, search_max, span_text
+from .loss_page import measured_span, open_note, search_max, span_text
 from .size_loss_page import headline_line as size_loss_line
 from .verdict_text import RELATION_WORDS, law_why, why_out
 from .zero_cell import law_zero
@@ -79,9 +79,9 @@ def _loss_value(k, st, sigma_max) -> str:
     if st.loss_kind == _loss.NO_LOSS:
         at_max = math.isfinite(sigma_max) and lo >= sigma_max
         return (f"k̃ = {k:g}: > {lo:g} (no loss up to the largest σ̃ run"
-                + (", the search's limit" if at_max else "") + ")")
+                + (", the search's limit" if at_max else "") + f"{open_note(st)})")
     if st.loss_kind == _loss.ALL_LOST:
-        return f"k̃ = {k:g}: < {hi:g} (lost at every σ̃ run)"
+        return f"k̃ = {k:g}: < {hi:g} (lost at every σ̃ run{open_note(st)})"
     return f"k̃ = {k:g}: not measured"
 
 
@@ -253,9 +253,13 @@ def size_line(d) -> str:
             continue
         within = sum(r.verdict == WITHIN for r in rows)
         known = sum(r.verdict in (WITHIN, DIFFERS) for r in rows)
+        floor = sum(r.verdict == AT_FLOOR for r in rows)
+        said = ([f"within the seed scatter in {within} of {known} (k̃, σ̃)"] if known else []) + (
+            [f"not resolved in {floor}: the n_side = {ref} plateau may be the "
+             f"{FEW_PILLARS:g}-pillar floor"]
+            if floor else [])
         parts.append(f"n_side = {n}: {rel[0]:+.1f} … {rel[-1]:+.1f} %"
-                     + (f" (within the seed scatter in {within} of {known} (k̃, σ̃))"
-                        if known else ""))
+                     + (f" ({'; '.join(said)})" if said else ""))
     return text + ("; ".join(parts) if parts else "no smaller n_side with a plateau yet") + "."
 
 

@@ -26,6 +26,22 @@ def span_text(span) -> str:
     return f"({span[0]:.4g}, {'∞' if span[1] == math.inf else f'{span[1]:.4g}'}]"
 
 
+def open_note(st) -> str:
+    """Where no pair of groups brackets the loss (adhesion held at every sigma~ run, or lost at
+    every one) but the end groups' seeds leave their state uncertain, the span that gives:
+    '; with its seeds σ̃ = 0.6 is not certain: lost in (0.5, ∞]'; else ''. The bound alone
+    ('> 0.6') would claim more than those seeds show."""
+    lo, hi = st.loss_bracket
+    span = tuple(st.loss.span)
+    if not ((st.loss_kind == _loss.NO_LOSS and span[0] < lo)
+            or (st.loss_kind == _loss.ALL_LOST and span[1] > hi)):
+        return ""
+    unc = [s for s in st.loss.uncertain if span[0] < s < span[1]]
+    which = (f"σ̃ = {', '.join(f'{s:g}' for s in unc)} {'is' if len(unc) == 1 else 'are'} "
+             "not certain" if unc else "the end groups are not certain")
+    return f"; with its seeds {which}: lost in {span_text(span)}"
+
+
 def measured_cell(st) -> str:
     """The measured sigma~_c of one k~ for a table cell: 'value [CI] in (lo, hi]' (the span of
     :func:`measured_span`), or the bound."""
@@ -33,9 +49,9 @@ def measured_cell(st) -> str:
     if st.loss_kind == _loss.BRACKET:
         return f"{fmt_ci(st.sigma_loss, st.sigma_loss_ci)} in {span_text(measured_span(st))}"
     if st.loss_kind == _loss.NO_LOSS:
-        return f"> {lo:g} (no loss up to the largest σ̃ run)"
+        return f"> {lo:g} (no loss up to the largest σ̃ run{open_note(st)})"
     if st.loss_kind == _loss.ALL_LOST:
-        return f"< {hi:g} (lost at every σ̃ run)"
+        return f"< {hi:g} (lost at every σ̃ run{open_note(st)})"
     return "—"
 
 

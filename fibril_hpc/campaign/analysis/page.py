@@ -110,8 +110,10 @@ SIZE_DEFINITION = """\
 * **Finite size**: the plateau of each (k̃, σ̃) read as above at every n_side on its own (each
   n_side's seeds are other brushes: a bootstrap per n_side). *Change* = plateau(n_side) /
   plateau(largest n_side) − 1, in brackets the range the two seed intervals allow
-  ([lo/hi′ − 1, hi/lo′ − 1]); *within the seed scatter* when that range holds 0. The preset's
-  bias is the same at every n_side and cancels from the ratio to first order.
+  ([lo/hi′ − 1, hi/lo′ − 1]); *within the seed scatter* when that range holds 0, *not
+  resolved* instead where the largest brush's plateau interval reaches 3 pillars' pull-off (a
+  ratio to a plateau that may be that floor). The preset's bias is the same at every n_side and
+  cancels from the ratio to first order.
 """
 
 

@@ -12,7 +12,12 @@ possible); undefined when either interval is unknown (one seed) or the reference
 reaches 0. The preset's discretisation bias is the same at every n_side and cancels from the
 ratio to first order, so only the seed scatter enters. *Verdict*: "within the seed scatter"
 when the interval holds 0, "differs" when it does not; a plateau not reached is a lower bound,
-and the note says so.
+and the note says so. *Not resolved* instead of "within the seed scatter" when the reference
+plateau's seed interval reaches the loss threshold (``FEW_PILLARS`` pillars' pull-off of the
+reference brush, :mod:`.loss`): a ratio to a plateau that may be the floor of a brush that lost
+adhesion spans decades (+438 % [-22, +45 666] % on a 64 x 64 reference of 0.007 [0.0001,
+0.015]), which is no agreement. An interval that excludes 0 still "differs" (the smaller brush
+holds more than the reference can).
 """
 
 from __future__ import annotations
@@ -20,9 +25,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from .reading import FEW_PILLARS
+
 NAN2 = (math.nan, math.nan)
 WITHIN, DIFFERS, REFERENCE, UNKNOWN = ("within the seed scatter", "differs", "reference",
                                        "no seed interval")
+AT_FLOOR = "not resolved"
 
 
 @dataclass
@@ -49,6 +57,12 @@ def _ratio_interval(ci, ref_ci) -> tuple:
     if not all(math.isfinite(v) for v in (lo, hi, rlo, rhi)) or rlo <= 0:
         return NAN2
     return lo / rhi - 1.0, hi / rlo - 1.0
+
+
+def _threshold(st) -> float:
+    """The reference brush's loss threshold (:attr:`.loss.Loss.threshold`); NaN if unknown."""
+    thr = getattr(getattr(st, "loss", None), "threshold", math.nan)
+    return float(thr) if thr is not None else math.nan
 
 
 def size_rows(by_n: dict, ref_n_side: int | None = None) -> list:
@@ -88,8 +102,14 @@ def size_rows(by_n: dict, ref_n_side: int | None = None) -> list:
             row.rel_ci = _ratio_interval(g.plateau_ci, g_ref.plateau_ci)
             if math.isfinite(row.rel_ci[0]):
                 row.verdict = WITHIN if row.rel_ci[0] <= 0.0 <= row.rel_ci[1] else DIFFERS
+            thr = _threshold(next((st for kk, st in by_n[ref].items() if float(kk) == k), None))
+            if row.verdict == WITHIN and g_ref.plateau_ci[0] <= thr:
+                row.verdict = AT_FLOOR
+                row.notes.append(f"the n_side = {ref} plateau's seed interval reaches "
+                                 f"{FEW_PILLARS:g} pillars' pull-off ({thr:.3g}): the change is not "
+                                 "resolved against a plateau that may be that floor")
             rows.append(row)
     return rows
 
 
-__all__ = ["SizeRow", "size_rows", "WITHIN", "DIFFERS", "REFERENCE", "UNKNOWN"]
+__all__ = ["SizeRow", "size_rows", "WITHIN", "DIFFERS", "REFERENCE", "UNKNOWN", "AT_FLOOR"]

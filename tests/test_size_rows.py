@@ -1,0 +1,78 @@
+"""The finite-size table's verdict (:func:`fibril_hpc.campaign.laws.size.size_rows`): a change is
+read against the largest brush only where that brush's plateau is resolved above its loss
+threshold; a ratio to a plateau that may be the 3-pillar floor is *not resolved*, never
+"within the seed scatter"."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace as NS
+
+import pytest
+
+from fibril_hpc.campaign.laws.size import AT_FLOOR, DIFFERS, REFERENCE, WITHIN, size_rows
+
+NAN = math.nan
+
+
+def _group(sigma, plateau, ci, state="reached"):
+    return NS(sigma_tilde=sigma, n_seeds=4, plateau_ci=ci,
+              reading=NS(plateau=plateau, plateau_state=state))
+
+
+def _study(groups, thr=0.0037):
+    return NS(groups=groups, loss=NS(threshold=thr))
+
+
+def _by_n(ref_ci, small_ci=(0.0118, 0.0633), thr=0.0037):
+    return {32: {1.0: _study([_group(0.6, 0.0386, small_ci)], thr)},
+            64: {1.0: _study([_group(0.6, 0.0072, ref_ci)], thr)}}
+
+
+def test_a_reference_at_the_floor_is_not_resolved():
+    """The 64 x 64 k~ = 1 file: +438 % [-22, +45 666] % was read 'within the seed scatter'."""
+    rows = size_rows(_by_n((0.000138, 0.0151)))
+    small, ref = rows
+    assert ref.verdict == REFERENCE
+    assert small.verdict == AT_FLOOR
+    assert small.rel == pytest.approx(0.0386 / 0.0072 - 1)
+    assert small.rel_ci == pytest.approx((0.0118 / 0.0151 - 1, 0.0633 / 0.000138 - 1))
+    assert small.notes == ["the n_side = 64 plateau's seed interval reaches 3 pillars' pull-off "
+                           "(0.0037): the change is not resolved against a plateau that may "
+                           "be that floor"]
+
+
+@pytest.mark.parametrize("ref_ci, small_ci, thr, want", [
+    ((0.004, 0.0151), (0.0118, 0.0633), 0.0037, WITHIN),      # above the floor: read as before
+    ((0.0037, 0.0151), (0.0118, 0.0633), 0.0037, AT_FLOOR),   # at it (<=)
+    ((0.004, 0.0151), (0.0200, 0.0633), 0.0037, DIFFERS),
+    ((0.000138, 0.0151), (0.0200, 0.0633), 0.0037, DIFFERS),   # holds more than the floor can
+    ((0.000138, 0.0151), (0.0118, 0.0633), NAN, WITHIN),      # no threshold known: as before
+])
+def test_the_verdict_at_the_floor_s_edge(ref_ci, small_ci, thr, want):
+    assert size_rows(_by_n(ref_ci, small_ci, thr))[0].verdict == want
+
+
+def test_the_threshold_is_the_reference_brush_s():
+    """Each brush has its own floor (3 pillars of N): the reference's decides."""
+    by_n = _by_n((0.003, 0.0151))
+    by_n[32][1.0].loss.threshold = 0.01            # the smaller brush's larger floor is not used
+    by_n[64][1.0].loss.threshold = 0.002
+    assert size_rows(by_n)[0].verdict == WITHIN
+    by_n[64][1.0].loss.threshold = 0.0031
+    assert size_rows(by_n)[0].verdict == AT_FLOOR
+
+
+def test_the_headline_counts_the_rows_not_resolved():
+    from fibril_hpc.campaign.analysis import headline as hl
+
+    rows = [NS(n_side=32, rel=4.38, verdict=AT_FLOOR), NS(n_side=32, rel=0.9, verdict=DIFFERS),
+            NS(n_side=64, rel=0.0, verdict=REFERENCE)]
+    d = NS(n_sides=[32, 64], n_side=64, size=rows)
+    assert hl.size_line(d).endswith(
+        "n_side = 32: +90.0 … +438.0 % (within the seed scatter in 0 of 1 (k̃, σ̃); not resolved "
+        "in 1: the n_side = 64 plateau may be the 3-pillar floor).")
+    d = NS(n_sides=[32, 64], n_side=64, size=rows[:1] + rows[2:])
+    assert hl.size_line(d).endswith(
+        "n_side = 32: +438.0 … +438.0 % (not resolved in 1: the n_side = 64 plateau may be the "
+        "3-pillar floor).")
