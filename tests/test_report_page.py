@@ -204,6 +204,22 @@ def test_no_axis_is_set_by_an_extrapolated_curve(data, monkeypatch):
     assert lo >= min(ends) / 3 and hi <= max(ends) * 3
 
 
+def test_one_k_draws_no_stiffness_axis(data, monkeypatch):
+    """With one k~ the stiffness panel would repeat the roughness panel's points in one column:
+    it says so instead; with several k~ it draws one point per k~ and sigma~."""
+    k = next(iter(data.studies))
+    one = SimpleNamespace(studies={k: data.studies[k]})
+    fig = _captured(monkeypatch, figures_coeff, figures_coeff.plateau, one)
+    left, right = fig.axes
+    assert not right.get_lines() and not right.collections
+    assert [t.get_text() for t in right.texts] == [
+        f"one $\\tilde k$ ({k:g}) in this grid: no stiffness axis to draw\n"
+        "(the left panel has every plateau)"]
+    assert left.get_lines()
+    fig = _captured(monkeypatch, figures_coeff, figures_coeff.plateau, data)
+    assert not fig.axes[1].texts and fig.axes[1].get_lines()
+
+
 def test_each_note_is_said_once():
     assert once(["a; b", "b", "", "alpha/beta = 3", "α/β = 3"]) == "a; b; alpha/beta = 3"
     assert clauses("x [1, 2] (t; u); y") == ["x [1, 2] (t; u)", "y"]

@@ -191,6 +191,14 @@ def plateau(data, out_dir, name="plateau.png"):
             a2.set_xscale("log")
         legend(a1)
         legend(a2)
+    if allg and len(ks) < 2:
+        # one k~ gives no stiffness axis: its points would stand in one column at that k~,
+        # the left panel's points again
+        a2.clear()
+        a2.set_xticks([])
+        a2.set_yticks([])
+        say(a2, f"one {KT} ({ks[0]:g}) in this grid: no stiffness axis to draw\n"
+                f"(the left panel has every plateau)")
     a1.set_xlabel(f"roughness {SIG}")
     a2.set_xlabel(f"pillar stiffness {KT}")
     for ax in (a1, a2):
