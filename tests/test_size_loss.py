@@ -413,3 +413,23 @@ def test_a_drift_that_names_only_falling_limits_reads_no_sigma_inf(state, falls)
     assert (s.sigma_inf_kind == sl.NOT_SIZE_FREE) == falls
     line = size_loss_page.headline_line({1.0: s})
     assert ("crossings drift as a limit that keeps falling" in line) == falls
+
+
+def test_p_s_interval_stays_in_the_fit_s_range_and_the_page_says_where_it_ends():
+    """The widened interval of p stops at the fit's bounds (a p below 0.05 is never fitted): an
+    end there is written '≤ 0.05' / '≥ 3', not a number the fit cannot give (-0.0144 was)."""
+    from fibril_hpc.campaign.analysis import size_loss_page
+
+    s = sl.size_loss(1.0, st.brushes((8, 12, 16), sigmas=(0.1, 0.2, 0.3), sd_inf=0.1,
+                                     sd_a=0.3, rng=5), st.PHI, n_boot=40)
+    lo, hi = s.p_ci
+    assert sl.P_BOUNDS[0] <= lo <= s.p <= hi <= sl.P_BOUNDS[1], (s.p, s.p_ci)
+    assert s.p_state == sl.NOT_DETERMINED
+    assert lo == sl.P_BOUNDS[0] or hi == sl.P_BOUNDS[1]
+    text = size_loss_page._p_text
+    assert text(0.124, (0.05, 0.547)) == "0.124 [≤ 0.05, 0.547]"
+    assert text(0.124, (0.05, 3.0)) == "0.124 [≤ 0.05, ≥ 3]"
+    assert text(0.124, (0.0499, 2.99)) == "0.124 [0.0499, 2.99]"     # not at a bound: as is
+    assert text(0.75, (0.6, 0.9)) == "0.75 [0.6, 0.9]"
+    assert text(0.75, (math.nan, math.nan)) == "0.75"
+    assert text(math.nan, (0.6, 0.9)) == "—"

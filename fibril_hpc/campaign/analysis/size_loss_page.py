@@ -24,6 +24,19 @@ def _ci(ci) -> list:
     return [_end(ci[0]), _end(ci[1])]
 
 
+def _p_text(p: float, ci: tuple) -> str:
+    """p [lo, hi], an end at a bound of the fit (:data:`..laws.size_loss.P_BOUNDS`, where
+    :mod:`..laws.size_loss` clips the widened interval) written '≤ 0.05' or '≥ 3': the sizes
+    do not bound p there, the fit's range does."""
+    text = val_ci(p, ci, ".3g")
+    if not (math.isfinite(p) and all(math.isfinite(v) for v in ci)):
+        return text
+    lo, hi = sl.P_BOUNDS
+    ends = [f"≤ {lo:g}" if math.isclose(ci[0], lo) else fmt(ci[0], ".3g"),
+            f"≥ {hi:g}" if math.isclose(ci[1], hi) else fmt(ci[1], ".3g")]
+    return f"{fmt(p, '.3g')} [{ends[0]}, {ends[1]}]"
+
+
 def _sigma_cell(kind: str, sigma: float, ci: tuple, bracket: tuple) -> str:
     if kind == sl.BRACKET:
         return val_ci(sigma, ci, ".3g")
@@ -113,7 +126,7 @@ def table(d) -> Table:
             _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket), "∞",
             "∞", "—",
             f"P∞ = 0 at σ̃ = {zero}; per-area crossing over the two largest sizes: "
-            f"{s.area_trend}; p = {val_ci(s.p, s.p_ci, '.3g')} ({s.p_state}); "
+            f"{s.area_trend}; p = {_p_text(s.p, s.p_ci)} ({s.p_state}); "
             f"d ln σ̃ / d ln N at {FEW_PILLARS:g} pillars {_drift_text(s.few_drift)}, "
             f"at F̃_A = {thr:g} {_drift_text(s.area_drift)}"])
     return t

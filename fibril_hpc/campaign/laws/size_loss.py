@@ -54,7 +54,7 @@ construction) with its own P_inf and A and one shared p (``scipy.optimize.least_
 replicates refitted; its state is CONSISTENT when 3/4 lies in p's interval, DIFFERS when not,
 NOT_DETERMINED when the interval spans more than a factor ``P_SPAN`` (sizes too close together
 to tell p from P_inf) or when p or an end of its interval lies at a bound of the fit
-(``P_BOUNDS``), NOT_FITTED with fewer than two such sigma~ (no degree of freedom) or
+(``P_BOUNDS``; an end widened past one is clipped to it), NOT_FITTED with fewer than two sigma~ or
 fewer than three sizes.
 
 **sigma~_inf**, where adhesion per area is lost: the first sigma~ (ascending) where P_inf falls
@@ -387,7 +387,7 @@ def _extrapolate(out: SizeLoss, reps: dict, n_boot: int) -> None:
     if have_reps and math.isfinite(out.p):
         r = [fit_shared_p(N, np.array([[reps[n][j, i] for n in sizes] for i, _ in keep]), W)
              for j in range(n_boot)]
-        out.p_ci = expanded(out.p, percentile_interval(r), n_min)
+        out.p_ci = tuple(np.clip(expanded(out.p, percentile_interval(r), n_min), *P_BOUNDS).tolist())
         out.p_state = exponent_state(out.p, out.p_ci)
 
 
