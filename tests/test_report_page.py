@@ -216,8 +216,10 @@ def test_one_k_draws_no_stiffness_axis(data, monkeypatch):
         f"one $\\tilde k$ ({k:g}) in this grid: no stiffness axis to draw\n"
         "(the left panel has every plateau)"]
     assert left.get_lines()
-    fig = _captured(monkeypatch, figures_coeff, figures_coeff.plateau, data)
-    assert not fig.axes[1].texts and fig.axes[1].get_lines()
+    two = SimpleNamespace(studies=dict(list(data.studies.items())[:2]))
+    for d in (two, data):
+        fig = _captured(monkeypatch, figures_coeff, figures_coeff.plateau, d)
+        assert not fig.axes[1].texts and fig.axes[1].get_lines()
 
 
 def test_each_note_is_said_once():
