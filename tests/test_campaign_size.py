@@ -396,8 +396,13 @@ def test_the_report_of_a_size_sweep_still_running_names_what_it_reads(tmp_path):
     assert "reads n_side = 8 only" in page and "(the largest with done jobs)" in page
     with open(tmp_path / "rep" / "finite_size.csv") as fh:
         rows = list(csv.DictReader(fh))
-    assert {r["n_side"] for r in rows} == {"4", "8"} and all(r["rel_change"] == "" for r in rows)
-    assert all("no plateau at the reference n_side = 16" in r["note"] for r in rows)
+    # read against the largest size with done jobs, as every other table (not left empty
+    # against a 16 x 16 that has no job yet)
+    assert {r["n_side"] for r in rows} == {"4", "8"}
+    assert all(r["reference_n_side"] == "8" for r in rows)
+    assert all(r["verdict"] == "reference" for r in rows if r["n_side"] == "8")
+    assert all(r["rel_change"] != "" for r in rows if r["n_side"] == "4")
+    assert "Plateau against n_side = 8: n_side = 4:" in page
 
 
 def test_the_shipped_finite_size_grid_sweeps_the_brush_size():

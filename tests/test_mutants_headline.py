@@ -244,14 +244,14 @@ def test_the_size_line_and_its_note():
     d = _data({}, n_sides=[8, 10, 12, 16, 18], n_side=16, size=rows)     # no row at 10
     assert hl.size_line(d) == (
         "Finite size: n_side = 8, 10, 12, 16, 18; the other tables and figures read n_side = 16 (the "
-        "largest with done jobs). Plateau against n_side = 18: n_side = 8: -5.0 … +12.3 % "
+        "largest with done jobs). Plateau against n_side = 18: n_side = 8: -5.00 … +12.3 % "
         "(within the seed scatter in 1 of 2 (k̃, σ̃)); n_side = 12: no relative change (no "
-        "plateau at 18); n_side = 16: +0.0 … +0.0 % (within the seed scatter in 1 of 1 (k̃, "
+        "plateau at 18); n_side = 16: +0.00 … +0.00 % (within the seed scatter in 1 of 1 (k̃, "
         "σ̃)).")
     d = _data({}, n_sides=[8, 18], n_side=18, size=[_row(8, 0.02, UNKNOWN)])
     assert hl.size_line(d) == (
         "Finite size: n_side = 8, 18; the other tables and figures read n_side = 18. Plateau "
-        "against n_side = 18: n_side = 8: +2.0 … +2.0 %.")
+        "against n_side = 18: n_side = 8: +2.00 … +2.00 %.")
     d = _data({}, n_sides=[8, 18], n_side=None, size=[])
     assert hl.size_line(d) == (
         "Finite size: n_side = 8, 18; the other tables and figures read n_side = —. Plateau "

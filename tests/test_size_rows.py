@@ -70,9 +70,37 @@ def test_the_headline_counts_the_rows_not_resolved():
             NS(n_side=64, rel=0.0, verdict=REFERENCE)]
     d = NS(n_sides=[32, 64], n_side=64, size=rows)
     assert hl.size_line(d).endswith(
-        "n_side = 32: +90.0 … +438.0 % (within the seed scatter in 0 of 1 (k̃, σ̃); not resolved "
+        "n_side = 32: +90.0 … +438 % (within the seed scatter in 0 of 1 (k̃, σ̃); not resolved "
         "in 1: the n_side = 64 plateau may be the 3-pillar floor).")
     d = NS(n_sides=[32, 64], n_side=64, size=rows[:1] + rows[2:])
     assert hl.size_line(d).endswith(
-        "n_side = 32: +438.0 … +438.0 % (not resolved in 1: the n_side = 64 plateau may be the "
+        "n_side = 32: +438 … +438 % (not resolved in 1: the n_side = 64 plateau may be the "
         "3-pillar floor).")
+
+
+def test_a_merged_file_reads_each_k_against_its_own_largest_size():
+    """k~ = 1 ran 8-16 and k~ = 0.01 ran 8-20 (merged files): k~ = 1 is read against 16, not
+    reported as having no plateau at 20."""
+    by_n = {16: {1.0: _study([_group(0.6, 0.2, (0.15, 0.25))]),
+                 0.01: _study([_group(1.0, 0.5, (0.4, 0.6))])},
+            20: {0.01: _study([_group(1.0, 0.3, (0.25, 0.35))])},
+            8: {1.0: _study([_group(0.6, 0.4, (0.3, 0.5))])}}
+    rows = {(r.k_tilde, r.n_side): r for r in size_rows(by_n, 20)}
+    assert rows[(1.0, 16)].verdict == REFERENCE and rows[(1.0, 16)].ref_n_side == 16
+    assert rows[(1.0, 8)].ref_n_side == 16 and rows[(1.0, 8)].rel == pytest.approx(1.0)
+    assert rows[(1.0, 8)].verdict == DIFFERS and not rows[(1.0, 8)].notes
+    assert rows[(0.01, 16)].ref_n_side == 20 and rows[(0.01, 20)].verdict == REFERENCE
+    assert {r.ref_n_side for r in size_rows(by_n)} == {16, 20}     # no reference given: alike
+    assert {r.ref_n_side for r in size_rows(by_n, 16)} == {16}     # one both ran: it is used
+
+    from fibril_hpc.campaign.analysis import headline as hl
+    from fibril_hpc.campaign.analysis import tables
+
+    d = NS(n_sides=[8, 16, 20], n_side=20, size=size_rows(by_n, 20))
+    assert hl.size_line(d).endswith(
+        "Plateau against each k̃'s largest n_side (16, 20): n_side = 8: +100 … +100 % (within "
+        "the seed scatter in 0 of 1 (k̃, σ̃)); n_side = 16: +66.7 … +66.7 % (within the seed "
+        "scatter in 0 of 1 (k̃, σ̃)).")
+    t = tables.finite_size(d)
+    assert t.page_rows[0][6] == ("change against the largest n_side of each k̃ (16, 20) [range of "
+                                 "the seed CIs]")

@@ -29,6 +29,7 @@ from ..laws.verdict import Relation
 from .batching import C_BIAS
 from .loss_page import measured_span, open_note, search_max, span_text
 from .size_loss_page import headline_line as size_loss_line
+from .tables import pct
 from .verdict_text import RELATION_WORDS, law_why, why_out
 from .zero_cell import law_zero
 
@@ -236,29 +237,38 @@ def seeds_line(auto: dict | None, limits: list) -> str:
 
 def size_line(d) -> str:
     """The finite-size note: per smaller n_side, the range of the plateau's relative change
-    against the largest n_side, and in how many (k~, sigma~) it is within the seed scatter."""
-    ref = max(d.n_sides)
+    against the largest n_side (of each k~, in a merged file whose k~ ran other sizes), and in
+    how many (k~, sigma~) it is within the seed scatter."""
+    top = max(d.n_sides)
+
+    def ref_of(r) -> int:
+        return getattr(r, "ref_n_side", None) or top
+
+    refs = sorted({ref_of(r) for r in d.size}) or [top]
+    ref = refs[0] if len(refs) == 1 else None
     text = (f"Finite size: n_side = {', '.join(map(str, d.n_sides))}; the other tables and "
             f"figures read n_side = {d.n_side if d.n_side is not None else '—'}"
-            + (" (the largest with done jobs)" if d.n_side not in (None, ref) else "")
-            + f". Plateau against n_side = {ref}: ")
+            + (" (the largest with done jobs)" if d.n_side not in (None, top) else "")
+            + (f". Plateau against n_side = {ref}: " if ref else
+               f". Plateau against each k̃'s largest n_side ({', '.join(map(str, refs))}): "))
     parts = []
     for n in d.n_sides:
-        rows = [r for r in d.size if r.n_side == n and n != ref]
-        rel = sorted(100 * r.rel for r in rows if math.isfinite(r.rel))
-        if n == ref or not rows:
+        rows = [r for r in d.size if r.n_side == n and n != ref_of(r)]
+        rel = sorted(r.rel for r in rows if math.isfinite(r.rel))
+        if not rows:
             continue
         if not rel:
-            parts.append(f"n_side = {n}: no relative change (no plateau at {ref})")
+            parts.append(f"n_side = {n}: no relative change (no plateau at "
+                         f"{ref if ref else 'the reference'})")
             continue
         within = sum(r.verdict == WITHIN for r in rows)
         known = sum(r.verdict in (WITHIN, DIFFERS) for r in rows)
         floor = sum(r.verdict == AT_FLOOR for r in rows)
         said = ([f"within the seed scatter in {within} of {known} (k̃, σ̃)"] if known else []) + (
-            [f"not resolved in {floor}: the n_side = {ref} plateau may be the "
-             f"{FEW_PILLARS:g}-pillar floor"]
+            [f"not resolved in {floor}: the {f'n_side = {ref}' if ref else 'reference'} plateau "
+             f"may be the {FEW_PILLARS:g}-pillar floor"]
             if floor else [])
-        parts.append(f"n_side = {n}: {rel[0]:+.1f} … {rel[-1]:+.1f} %"
+        parts.append(f"n_side = {n}: {pct(rel[0])} … {pct(rel[-1])} %"
                      + (f" ({'; '.join(said)})" if said else ""))
     return text + ("; ".join(parts) if parts else "no smaller n_side with a plateau yet") + "."
 

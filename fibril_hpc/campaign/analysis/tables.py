@@ -13,6 +13,7 @@ import html
 import io
 import math
 import re
+import statistics
 from dataclasses import dataclass, field
 
 from ..laws.intervals import dominant
@@ -290,24 +291,36 @@ def law_comparison(d) -> Table:
                    and all(v[law].fit.rms_log <= o.fit.rms_log for o in v.values()
                            if math.isfinite(o.fit.rms_log)))
         rel = sorted(lr.plateau_vs_read for _, lr in rows if math.isfinite(lr.plateau_vs_read))
-        relc = (f"{100 * rel[len(rel) // 2]:+.1f} % ({100 * rel[0]:+.0f} … {100 * rel[-1]:+.0f} %)"
+        relc = (f"{100 * statistics.median(rel):+.1f} % ({100 * rel[0]:+.0f} … {100 * rel[-1]:+.0f} %)"
                 if rel else "—")
         t.page_rows.append([law, fmt(rms, ".3g"), f"{best} of {len(rows)}",
                             str(sum(lr.poor for _, lr in rows)), relc])
     return t
 
 
+def pct(v: float) -> str:
+    """A relative change in percent to three significant figures, at most two decimals:
+    '+0.35', '+12.3', '+168', '+1419' (the page gave '+1418.69' on an interval spanning a
+    factor 250)."""
+    x = 100 * v
+    if x == 0 or not math.isfinite(x):
+        return f"{x:+.2f}"
+    return f"{x:+.{min(2, max(0, 2 - math.floor(math.log10(abs(x)))))}f}"
+
+
 def finite_size(d) -> Table:
     """Per (k~, sigma~, n_side): the plateau with its seed interval, and its relative change
     against the largest n_side of the grid (:mod:`.laws.size`)."""
-    ref = max(d.n_sides) if d.n_sides else None
+    refs = sorted({r.ref_n_side for r in d.size}) or ([max(d.n_sides)] if d.n_sides else [None])
+    ref = (f"n_side = {refs[0]}" if len(refs) == 1
+           else f"the largest n_side of each k̃ ({', '.join(map(str, refs))})")
     t = Table("finite_size", f"Finite size: the plateau against the brush size n_side "
-              f"(relative to n_side = {ref})")
+              f"(relative to {ref})")
     t.csv_rows.append(["k_tilde", "sigma_tilde", "n_side", "plateau", "plateau_lo", "plateau_hi",
                        "state", "n_seeds", "reference_n_side", "rel_change", "rel_change_lo",
                        "rel_change_hi", "verdict", "note"])
     t.page_rows.append(["k̃", "σ̃", "n_side", "plateau [seed CI]", "state", "seeds",
-                        f"change against n_side = {ref} [range of the seed CIs]", "verdict",
+                        f"change against {ref} [range of the seed CIs]", "verdict",
                         "note"])
     for r in d.size:
         note = "; ".join(r.notes)
@@ -320,8 +333,8 @@ def finite_size(d) -> Table:
             change = "—"
         else:
             ci = r.rel_ci
-            change = f"{100 * r.rel:+.2f} %" + (
-                f" [{100 * ci[0]:+.2f}, {100 * ci[1]:+.2f}] %" if math.isfinite(ci[0]) else "")
+            change = f"{pct(r.rel)} %" + (
+                f" [{pct(ci[0])}, {pct(ci[1])}] %" if math.isfinite(ci[0]) else "")
         state = r.state if r.state == "reached" else f"**{r.state}**"
         verdict = f"**{r.verdict}**" if r.verdict == DIFFERS else r.verdict
         t.page_rows.append([f"{r.k_tilde:g}", f"{r.sigma_tilde:g}", str(r.n_side),

@@ -67,11 +67,15 @@ def _threshold(st) -> float:
 
 def size_rows(by_n: dict, ref_n_side: int | None = None) -> list:
     """``by_n``: {n_side: {k~: KStudy}} -> one :class:`SizeRow` per (k~, sigma~, n_side), k~
-    descending, sigma~ and n_side ascending. ``ref_n_side``: the reference brush size (default
-    the largest of ``by_n``); a group without a plateau there has no relative change."""
+    descending, sigma~ and n_side ascending. ``ref_n_side``: the reference brush size (default,
+    and for a k~ that did not run it: the largest size of that k~); a group without a plateau
+    there has no relative change."""
     if not by_n:
         return []
-    ref = max(by_n) if ref_n_side is None else ref_n_side
+    sizes_of: dict = {}
+    for n, studies in by_n.items():
+        for k in studies:
+            sizes_of.setdefault(float(k), set()).add(int(n))
     groups: dict = {}
     for n, studies in by_n.items():
         for k, st in studies.items():
@@ -80,6 +84,9 @@ def size_rows(by_n: dict, ref_n_side: int | None = None) -> list:
     rows = []
     for (k, s) in sorted(groups, key=lambda ks: (-ks[0], ks[1])):
         per = groups[(k, s)]
+        # a k~ that did not run the reference size (a merged file) is read against its own
+        # largest size, not reported as having no plateau there
+        ref = ref_n_side if ref_n_side in sizes_of[k] else max(sizes_of[k])
         g_ref = per.get(ref)
         for n in sorted(per):
             g = per[n]
