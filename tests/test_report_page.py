@@ -213,9 +213,13 @@ def test_one_k_draws_no_stiffness_axis(data, monkeypatch):
     left, right = fig.axes
     assert not right.get_lines() and not right.collections
     assert [t.get_text() for t in right.texts] == [
-        f"one $\\tilde k$ ({k:g}) in this grid: no stiffness axis to draw\n"
+        f"one $\\tilde k$ ({k:g}) among the groups read: no stiffness axis to draw\n"
         "(the left panel has every plateau)"]
     assert left.get_lines()
+    one.n_side = 20                   # a merged file: other k~ ran only smaller sizes
+    fig = _captured(monkeypatch, figures_coeff, figures_coeff.plateau, one)
+    assert fig.axes[1].texts[0].get_text().startswith(
+        f"one $\\tilde k$ ({k:g}) among the groups read (n_side = 20): no stiffness")
     two = SimpleNamespace(studies=dict(list(data.studies.items())[:2]))
     for d in (two, data):
         fig = _captured(monkeypatch, figures_coeff, figures_coeff.plateau, d)

@@ -197,8 +197,10 @@ def plateau(data, out_dir, name="plateau.png"):
         a2.clear()
         a2.set_xticks([])
         a2.set_yticks([])
-        say(a2, f"one {KT} ({ks[0]:g}) in this grid: no stiffness axis to draw\n"
-                f"(the left panel has every plateau)")
+        n = getattr(data, "n_side", None)
+        say(a2, f"one {KT} ({ks[0]:g}) among the groups read"
+                + (f" (n_side = {n})" if n is not None else "")
+                + ": no stiffness axis to draw\n(the left panel has every plateau)")
     a1.set_xlabel(f"roughness {SIG}")
     a2.set_xlabel(f"pillar stiffness {KT}")
     for ax in (a1, a2):
