@@ -91,7 +91,7 @@ def test_the_size_loss_table():
         format(sl.pillar_reach(0.45678, 1.0, 12, PHI), ".3g"), ""]
     assert t.page_rows[3] == [
         "1", "∞ (P∞)", "∞", "—", "∞", "0.457 [0.44, 0.47]", "∞", "∞", "—",
-        "P∞ = 0 at σ̃ = > 1 (not reached); per-area crossing over the two largest sizes: "
+        "σ̃ where P∞ = 0: > 1 (not reached); per-area crossing over the two largest sizes: "
         "steady; p = 0.812 [0.6, 1.1] (consistent with 3/4); d ln σ̃ / d ln N at 3 pillars —, "
         "at F̃_A = 0.1 —"]
     # a crossing not read is a dash; no size: the default threshold in the title
@@ -161,7 +161,7 @@ def test_small_numbers_and_the_other_kinds_of_the_large_brush_row():
     assert "e-05" in t.page_rows[2][6]
     assert t.page_rows[3][5] == "> 1.23e-05 (not reached)"
     assert t.page_rows[3][-1] == (
-        "P∞ = 0 at σ̃ = 0.612 [0.55, 0.7]; per-area crossing over the two largest sizes: "
+        "σ̃ where P∞ = 0: 0.612 [0.55, 0.7]; per-area crossing over the two largest sizes: "
         "steady; p = 1.23e-05 [1e-05, 2e-05] (consistent with 3/4); d ln σ̃ / d ln N at 3 "
         "pillars —, at F̃_A = 0.1 —")
     rinf = dict(zip(HEAD, t.csv_rows[-1]))

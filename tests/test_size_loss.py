@@ -427,9 +427,32 @@ def test_p_s_interval_stays_in_the_fit_s_range_and_the_page_says_where_it_ends()
     assert s.p_state == sl.NOT_DETERMINED
     assert lo == sl.P_BOUNDS[0] or hi == sl.P_BOUNDS[1]
     text = size_loss_page._p_text
-    assert text(0.124, (0.05, 0.547)) == "0.124 [≤ 0.05, 0.547]"
-    assert text(0.124, (0.05, 3.0)) == "0.124 [≤ 0.05, ≥ 3]"
-    assert text(0.124, (0.0499, 2.99)) == "0.124 [0.0499, 2.99]"     # not at a bound: as is
-    assert text(0.75, (0.6, 0.9)) == "0.75 [0.6, 0.9]"
-    assert text(0.75, (math.nan, math.nan)) == "0.75"
-    assert text(math.nan, (0.6, 0.9)) == "—"
+    assert text(0.124, (0.05, 0.547)) == "= 0.124 [≤ 0.05, 0.547]"
+    assert text(0.124, (0.05, 3.0)) == "= 0.124 [≤ 0.05, ≥ 3]"
+    assert text(0.124, (0.0499, 2.99)) == "= 0.124 [0.0499, 2.99]"     # not at a bound: as is
+    assert text(0.75, (0.6, 0.9)) == "= 0.75 [0.6, 0.9]"
+    assert text(0.75, (math.nan, math.nan)) == "= 0.75"
+    assert text(math.nan, (0.6, 0.9)) == "= —"
+    # p itself at a bound is no estimate
+    assert text(0.05, (0.05, 0.576)) == "at the fit's bound 0.05 [≤ 0.05, 0.576]"
+    assert text(3.0, (0.9, 3.0)) == "at the fit's bound 3 [0.9, ≥ 3]"
+
+
+def test_a_limit_read_with_an_exponent_the_sizes_do_not_back_says_so(draws):
+    """σ~_inf rests on P∞ + A N^(−3/4): where the sizes do not determine p, or measure another,
+    the headline says the exponent was assumed; where they agree with 3/4 it says nothing."""
+    from dataclasses import replace
+
+    from fibril_hpc.campaign.analysis import size_loss_page
+
+    s = draws[0]
+    assert s.sigma_inf_kind == sl.BRACKET
+    line = size_loss_page.headline_line
+    said = "(N^(−3/4) assumed: these sizes do not determine the exponent)"
+    for state in (sl.NOT_DETERMINED, sl.NOT_FITTED):
+        assert said in line({1.0: replace(s, p_state=state)})
+    assert "assumed" not in line({1.0: replace(s, p_state=sl.CONSISTENT)})
+    other = replace(s, p_state=sl.DIFFERS, p=0.3, p_ci=(0.2, 0.45))
+    assert "(N^(−3/4) assumed: these sizes measure p = 0.3 [0.2, 0.45])" in line({1.0: other})
+    none = replace(s, p_state=sl.NOT_DETERMINED, sigma_inf_kind=sl.NO_LOSS)
+    assert "assumed" not in line({1.0: none})          # no limit read: nothing to qualify

@@ -25,16 +25,19 @@ def _ci(ci) -> list:
 
 
 def _p_text(p: float, ci: tuple) -> str:
-    """p [lo, hi], an end at a bound of the fit (:data:`..laws.size_loss.P_BOUNDS`, where
-    :mod:`..laws.size_loss` clips the widened interval) written '≤ 0.05' or '≥ 3': the sizes
-    do not bound p there, the fit's range does."""
-    text = val_ci(p, ci, ".3g")
+    """'= p [lo, hi]' for the page's 'p …'; an end at a bound of the fit
+    (:data:`..laws.size_loss.P_BOUNDS`, where :mod:`..laws.size_loss` clips the widened
+    interval) written '≤ 0.05' or '≥ 3': the sizes do not bound p there, the fit's range does;
+    a p at a bound is no estimate: 'at the fit's bound 0.05 [≤ 0.05, 0.576]'."""
+    text = "= " + val_ci(p, ci, ".3g")
     if not (math.isfinite(p) and all(math.isfinite(v) for v in ci)):
         return text
     lo, hi = sl.P_BOUNDS
     ends = [f"≤ {lo:g}" if math.isclose(ci[0], lo) else fmt(ci[0], ".3g"),
             f"≥ {hi:g}" if math.isclose(ci[1], hi) else fmt(ci[1], ".3g")]
-    return f"{fmt(p, '.3g')} [{ends[0]}, {ends[1]}]"
+    at = lo if math.isclose(p, lo) else hi if math.isclose(p, hi) else None
+    value = f"= {fmt(p, '.3g')}" if at is None else f"at the fit's bound {at:g}"
+    return f"{value} [{ends[0]}, {ends[1]}]"
 
 
 def _sigma_cell(kind: str, sigma: float, ci: tuple, bracket: tuple) -> str:
@@ -125,8 +128,8 @@ def table(d) -> Table:
             f"{k:g}", "∞ (P∞)", "∞", "—", "∞",
             _sigma_cell(s.sigma_inf_kind, s.sigma_inf, s.sigma_inf_ci, s.sigma_inf_bracket), "∞",
             "∞", "—",
-            f"P∞ = 0 at σ̃ = {zero}; per-area crossing over the two largest sizes: "
-            f"{s.area_trend}; p = {_p_text(s.p, s.p_ci)} ({s.p_state}); "
+            f"σ̃ where P∞ = 0: {zero}; per-area crossing over the two largest sizes: "
+            f"{s.area_trend}; p {_p_text(s.p, s.p_ci)} ({s.p_state}); "
             f"d ln σ̃ / d ln N at {FEW_PILLARS:g} pillars {_drift_text(s.few_drift)}, "
             f"at F̃_A = {thr:g} {_drift_text(s.area_drift)}"])
     return t
@@ -170,6 +173,11 @@ def headline_line(size_loss: dict) -> str:
                 and sl.FIXED_SIGMA not in s.area_drift.state:
             # an extrapolated limit from sizes whose crossings have not settled: say so
             area += f" (the sizes' crossings still move: q = {_drift_text(s.area_drift)})"
+        if s.sigma_inf_kind == sl.BRACKET and s.p_state != sl.CONSISTENT:
+            # the limit rests on the exponent 3/4; say where the sizes do not back it
+            area += (" (N^(−3/4) assumed: " + (
+                f"these sizes measure p {_p_text(s.p, s.p_ci)}" if s.p_state == sl.DIFFERS
+                else "these sizes do not determine the exponent") + ")")
         parts.append(f"k̃ = {k:g}{of}: {area}; at {FEW_PILLARS:g} pillars, by n_side, {few}")
     head = ("Loss across sizes: " if own else "Loss across sizes (sizes " + ", ".join(
         str(n) for n in next(iter(sizes))) + "): ")
