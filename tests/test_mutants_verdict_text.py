@@ -239,7 +239,7 @@ def test_the_reason_words():
         LawReason.CHI2: "poor fit", LawReason.NONE: ""}
     assert vt.NO_ZERO_WORDS == {
         ZeroReason.LAW_NOT_FITTED: "law not fitted",
-        ZeroReason.BETA_ZERO: "beta consistent with 0: the line does not reach 0",
+        ZeroReason.BETA_ZERO: "beta consistent with 0: the line may never reach 0, no zero shown",
         ZeroReason.NONE: "the line does not reach 0"}
     assert vt.RELATION_WORDS == {
         Relation.WITHIN: "inside the measured span",
@@ -260,7 +260,7 @@ def test_the_zero_cell_and_law_zero():
                                 "gives c > 0 where adhesion is lost)")
     for zr, words in ((ZeroReason.LAW_NOT_FITTED, "— (law not fitted)"),
                       (ZeroReason.BETA_ZERO,
-                       "— (beta consistent with 0: the line does not reach 0)")):
+                       "— (beta consistent with 0: the line may never reach 0, no zero shown)")):
         st = _study(verdict=Verdict(LawState.FITTED, LawReason.NONE, ZeroState.NONE, zr,
                                     Relation.ABOVE))
         z, ci, rel, why = zc.law_zero(st)

@@ -32,7 +32,7 @@ LAW_REASON_WORDS = {
 #: why the page shows no zero of the line, per :class:`..laws.verdict.ZeroReason` (short)
 NO_ZERO_WORDS = {
     ZeroReason.LAW_NOT_FITTED: "law not fitted",
-    ZeroReason.BETA_ZERO: "beta consistent with 0: the line does not reach 0",
+    ZeroReason.BETA_ZERO: "beta consistent with 0: the line may never reach 0, no zero shown",
     ZeroReason.NONE: "the line does not reach 0",
 }
 
