@@ -117,6 +117,17 @@ def test_any_campaign_gets_every_figure_and_both_pages(tmp_path_factory, grid, k
     assert any(f.endswith("report.html") for f in files)
 
 
+@pytest.mark.parametrize("kinds", [["law"], ["flat"]])
+def test_one_preload_gets_its_figures(tmp_path, kinds):
+    """One preload, one sigma~, one seed: the log panel's point and its plateau line lie at
+    one value, a zero-height log axis that matplotlib divided by (found by the property test
+    above; warnings are errors here)."""
+    path = _write(tmp_path, {"output": "one.h5", "scene": {"n_side": 2}, "k_tilde": [1.0],
+                             "sigma_tilde": [0.5], "F_P": [0.001], "seeds": 1}, kinds)
+    files = write_report(path, str(tmp_path / "rep"), n_boot=20)
+    assert any(f.endswith("FA_vs_FP.png") for f in files)
+
+
 def test_a_campaign_with_every_job_failed_gets_a_page_that_says_so(tmp_path):
     path = _write(tmp_path, {"output": "f.h5", "scene": {"n_side": 2}, "k_tilde": [1],
                              "sigma_tilde": [0.5], "F_P": [0.1, 1.0], "seeds": 2}, ["failed"])

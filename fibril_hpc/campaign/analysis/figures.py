@@ -41,6 +41,17 @@ def legend(ax, **kw):
         ax.legend(fontsize=LEGEND, **kw)
 
 
+def open_log_range(ax):
+    """A log axis whose data span no range (one point, and lines at its value) is widened to a
+    factor 2 each way: left as it is, its height is a rounding error and matplotlib divides by
+    it (a grid of one preload met this)."""
+    for get, put, scale in ((ax.get_xlim, ax.set_xlim, ax.get_xscale),
+                            (ax.get_ylim, ax.set_ylim, ax.get_yscale)):
+        lo, hi = get()
+        if scale() == "log" and lo > 0 and hi > 0 and abs(math.log(hi / lo)) < 1e-9:
+            put(min(lo, hi) / 2, max(lo, hi) * 2)
+
+
 def say(ax, text):
     """Write why an axis is empty on its face (no blank figure)."""
     ax.text(0.5, 0.5, text, transform=ax.transAxes, ha="center", va="center", fontsize=9,
@@ -153,6 +164,7 @@ def fa_vs_fp(data, out_dir, name="FA_vs_FP.png"):
                 ax.set_yscale("log")
             for i, g in enumerate(groups):
                 _rise_lines(ax, g, colour(i, len(groups)), linear)
+            open_log_range(ax)
             legend(ax, ncol=1 if len(groups) < 6 else 2)
         row[0].set_title(f"{KT} = {k:g}: linear axes (as the paper); dotted: {FA} = c {FP}",
                          fontsize=10)
