@@ -104,3 +104,20 @@ def test_a_merged_file_reads_each_k_against_its_own_largest_size():
     t = tables.finite_size(d)
     assert t.page_rows[0][6] == ("change against the largest n_side of each k̃ (16, 20) [range of "
                                  "the seed CIs]")
+
+
+def test_a_reference_interval_reaching_zero_leaves_the_change_open_above():
+    """64 x 64, σ~ = 1 (k~ 0.01): 0.0064 [0, 0.0143]. 16 x 16 holds 0.506 [0.424, 0.629]: more
+    than the reference can (+2 865 % at least), not 'no seed interval'; a smaller brush whose
+    interval overlaps it is not resolved against that floor."""
+    small, _ = size_rows(_by_n((0.0, 0.0143), (0.424, 0.629)))
+    assert small.rel_ci[0] == pytest.approx(0.424 / 0.0143 - 1) and small.rel_ci[1] == math.inf
+    assert small.verdict == DIFFERS
+    small, _ = size_rows(_by_n((0.0, 0.0143), (0.010, 0.05)))
+    assert small.rel_ci[1] == math.inf and small.verdict == AT_FLOOR
+    small, _ = size_rows(_by_n((0.0, 0.0), (0.010, 0.05)))
+    assert math.isnan(small.rel_ci[0]) and small.verdict == "no seed interval"
+    from fibril_hpc.campaign.analysis import tables
+
+    d = NS(n_sides=[32, 64], n_side=64, size=size_rows(_by_n((0.0, 0.0143), (0.424, 0.629))))
+    assert tables.finite_size(d).page_rows[1][6] == "+436 % [+2865, +inf] %"

@@ -8,8 +8,8 @@ has its own bootstrap.
 **Relative change** against the reference, the largest n_side of the grid:
 rel = P(n) / P(n_ref) - 1. Its interval is the range the two seed intervals allow,
 [lo(n) / hi(n_ref) - 1, hi(n) / lo(n_ref) - 1] (independent seeds: no joint resampling is
-possible); undefined when either interval is unknown (one seed) or the reference interval
-reaches 0. The preset's discretisation bias is the same at every n_side and cancels from the
+possible); undefined when either interval is unknown (one seed), unbounded above when the
+reference interval reaches 0. The preset's discretisation bias is the same at every n_side and cancels from the
 ratio to first order, so only the seed scatter enters. *Verdict*: "within the seed scatter"
 when the interval holds 0, "differs" when it does not; a plateau not reached is a lower bound,
 and the note says so. *Not resolved* instead of "within the seed scatter" when the reference
@@ -54,9 +54,11 @@ class SizeRow:
 def _ratio_interval(ci, ref_ci) -> tuple:
     lo, hi = ci
     rlo, rhi = ref_ci
-    if not all(math.isfinite(v) for v in (lo, hi, rlo, rhi)) or rlo <= 0:
+    if not all(math.isfinite(v) for v in (lo, hi, rlo, rhi)) or rhi <= 0:
         return NAN2
-    return lo / rhi - 1.0, hi / rlo - 1.0
+    # a reference interval reaching 0 leaves the ratio unbounded above, not unknown: its lower
+    # end still says whether the smaller brush holds more than the reference can
+    return lo / rhi - 1.0, (hi / rlo - 1.0 if rlo > 0 else math.inf)
 
 
 def _threshold(st) -> float:
