@@ -9,15 +9,16 @@ has its own bootstrap.
 rel = P(n) / P(n_ref) - 1. Its interval is the range the two seed intervals allow,
 [lo(n) / hi(n_ref) - 1, hi(n) / lo(n_ref) - 1] (independent seeds: no joint resampling is
 possible); undefined when either interval is unknown (one seed), unbounded above when the
-reference interval reaches 0. The preset's discretisation bias is the same at every n_side and cancels from the
-ratio to first order, so only the seed scatter enters. *Verdict*: "within the seed scatter"
-when the interval holds 0, "differs" when it does not; a plateau not reached is a lower bound,
-and the note says so. *Not resolved* instead of "within the seed scatter" when the reference
-plateau's seed interval reaches the loss threshold (``FEW_PILLARS`` pillars' pull-off of the
-reference brush, :mod:`.loss`): a ratio to a plateau that may be the floor of a brush that lost
-adhesion spans decades (+438 % [-22, +45 666] % on a 64 x 64 reference of 0.007 [0.0001,
-0.015]), which is no agreement. An interval that excludes 0 still "differs" (the smaller brush
-holds more than the reference can).
+reference interval reaches 0. The preset's discretisation bias is the same at every n_side
+and cancels from the ratio to first order, so only the seed scatter enters. *Verdict*:
+"within the seed scatter" when the interval holds 0, "differs" when it does not; a plateau
+not reached is a lower bound, and the note says so. *Not resolved* instead of "within the
+seed scatter" when the reference plateau's seed interval reaches the loss threshold
+(``FEW_PILLARS`` pillars' pull-off of the reference brush, :mod:`.loss`): a ratio to a
+plateau that may be the floor of a brush that lost adhesion spans decades (+438 % [-22,
++45 666] % on a 64 x 64 reference of 0.007 [0.0001, 0.015]), which is no agreement. An
+interval that excludes 0 still "differs" (the smaller brush holds more than the reference
+can).
 """
 
 from __future__ import annotations
