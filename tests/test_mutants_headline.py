@@ -54,7 +54,7 @@ def _data(studies, **kw):
     d = dict(studies=studies, n_jobs=40, n_failed=0, n_nonfinite=0, meta={},
              brush=(18, 0.16, ""), preset="fast", seeds_auto=None, n_sides=[], n_side=None,
              variant=None, seed_limits=[], size_loss={}, floor_note="", bias=NAN,
-             bias_note="not measured", size=[], coarse=[])
+             bias_note="not measured", size=[], coarse=[], elsewhere={}, floor=0.01)
     d.update(kw)
     return NS(**d)
 
@@ -123,9 +123,12 @@ def test_the_law_line_of_one_state():
         "(χ²/dof 4.5). Its zero α/β is an extrapolation of that line, given beside the "
         "measurement in the α/β table.")
     d = _data({1.0: _study(LawState.UNDEFINED, Relation.ABOVE)})
-    assert hl.headline(d)[2] == (
-        "c = α/σ̃ − β (1 k̃): undefined for k̃ = 1. Its zero α/β is an extrapolation of that "
-        "line, given beside the measurement in the α/β table.")
+    # no line fitted: no zero is spoken of (the α/β table gives none)
+    assert hl.headline(d)[2] == "c = α/σ̃ − β (1 k̃): undefined for k̃ = 1."
+    d = _data({1.0: _study(LawState.UNDEFINED, Relation.ABOVE),
+               0.5: _study(LawState.POOR, Relation.NONE, chi2=3.0)})
+    assert hl.headline(d)[2].endswith("Its zero α/β is an extrapolation of that line, given "
+                                      "beside the measurement in the α/β table.")
 
 
 def test_the_cautions_and_the_four_line_limit(monkeypatch):
@@ -268,3 +271,28 @@ def test_the_notes_of_two_undefined_laws():
         "within the seed scatter; alpha and beta for orientation only; k̃ = 0.01: chi^2/dof = 3: "
         "c = alpha/sigma~ - beta does not describe c within the seed scatter; alpha and beta for "
         "orientation only.")
+
+
+def test_a_k_that_did_not_run_the_size_read_is_named_with_its_own_largest():
+    """A merged file (k~ = 1 and 0.001 at 8-16, k~ = 0.01 also at 20) read every per-(k~,
+    sigma~) table at n_side = 20 and showed k~ = 0.01 alone, without a word of the other two."""
+    d = _data({0.01: _study()}, n_sides=[8, 12, 16, 20], n_side=20,
+              elsewhere={0.001: 16, 1.0: 12})
+    lines = hl.headline(d)
+    assert lines[-1] == (
+        "Before quoting: k̃ = 1, 0.001 ran no job at n_side = 20 (largest: 12, 16): the σ̃_c "
+        "line, the per-(k̃, σ̃) tables and the figures leave them out; the across-sizes tables "
+        "read them at their sizes.")
+    assert not any("ran no job" in line for line in hl.headline(_data({0.01: _study()})))
+
+
+def test_a_size_sweep_without_a_pillar_floor_says_why_no_loss_across_sizes_is_read():
+    rows = [_row(12, 0.1, WITHIN), _row(18, 0.0, WITHIN)]
+    say = "Where adhesion is lost across sizes is not read (no pillar floor: the tips"
+    d = _data({}, n_sides=[12, 18], n_side=18, size=rows, floor=NAN,
+              floor_note="no pillar floor: the tips are not flat punches")
+    assert say in hl.size_line(d)
+    for kw in ({"floor": 0.01}, {"size_loss": {1.0: object()}}, {"n_sides": [18]}):
+        assert say not in hl.size_line(_data({}, **{**dict(
+            n_sides=[12, 18], n_side=18, size=rows, floor=NAN,
+            floor_note="no pillar floor: the tips are not flat punches"), **kw}))

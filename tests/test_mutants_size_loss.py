@@ -85,26 +85,26 @@ def test_pillar_variables():
 def test_curve_crossing_at_its_edges():
     sig = [0.2, 0.4, 0.8, 1.6]
     p = [1.0, 0.25, 0.0625, 0.015625]                  # P = 0.04 sigma~^-2
-    s, br = sl.curve_crossing(sig, p, 0.1)
+    s, br = sl.first_fall(sig, p, 0.1)
     assert br == (0.4, 0.8) and s == pytest.approx(math.sqrt(0.4), rel=1e-12)
     assert isinstance(s, float) and all(isinstance(v, float) for v in br)
     # a level exactly at the threshold has fallen to it
-    assert sl.curve_crossing(sig, p, 0.25) == (pytest.approx(0.4, rel=1e-12), (0.2, 0.4))
-    first = sl.curve_crossing(sig, p, 1.0)
+    assert sl.first_fall(sig, p, 0.25) == (pytest.approx(0.4, rel=1e-12), (0.2, 0.4))
+    first = sl.first_fall(sig, p, 1.0)
     assert math.isnan(first[0]) and first[1] == (0.0, 0.2)
-    assert sl.curve_crossing(sig, p, 1.0, clip=False) == (0.0, (0.0, 0.2))
-    assert sl.curve_crossing(sig, p, 2.0, clip=False) == (0.0, (0.0, 0.2))
-    never = sl.curve_crossing(sig, p, 0.01)
+    assert sl.first_fall(sig, p, 1.0, clip=False) == (0.0, (0.0, 0.2))
+    assert sl.first_fall(sig, p, 2.0, clip=False) == (0.0, (0.0, 0.2))
+    never = sl.first_fall(sig, p, 0.01)
     assert math.isnan(never[0]) and never[1] == (1.6, math.inf)
-    assert sl.curve_crossing(sig, p, 0.01, clip=False) == (math.inf, (1.6, math.inf))
+    assert sl.first_fall(sig, p, 0.01, clip=False) == (math.inf, (1.6, math.inf))
     # points that are not a positive plateau are skipped, not crossed
-    s, br = sl.curve_crossing([0.1] + sig + [3.0], [math.nan] + [1.0, 0.0, 0.0625, 0.015625]
+    s, br = sl.first_fall([0.1] + sig + [3.0], [math.nan] + [1.0, 0.0, 0.0625, 0.015625]
                               + [-1.0], 0.1)
     assert br == (0.2, 0.8) and s == pytest.approx(math.sqrt(0.4), rel=1e-12)
     for thr in (0.0, -1.0, math.nan):
-        s, br = sl.curve_crossing(sig, p, thr)
+        s, br = sl.first_fall(sig, p, thr)
         assert math.isnan(s) and all(math.isnan(v) for v in br)
-    s, br = sl.curve_crossing([0.2, 0.4], [math.nan, -1.0], 0.1)
+    s, br = sl.first_fall([0.2, 0.4], [math.nan, -1.0], 0.1)
     assert math.isnan(s) and all(math.isnan(v) for v in br)
 
 
@@ -213,9 +213,9 @@ def test_every_size_is_read_with_its_own_floor_and_paired_seeds(case):
         assert area.threshold == sl.AREA_THRESHOLD and area.n_seeds == 3
         assert area.below_floor is (FEW_PILLARS * floor >= sl.AREA_THRESHOLD)
         for c in (few, area):
-            x, br = sl.curve_crossing(SIG, s.plateau[n], c.threshold)
+            x, br = sl.first_fall(SIG, s.plateau[n], c.threshold)
             assert c.kind == sl.BRACKET and c.sigma == x and c.bracket == br
-            r = [sl.curve_crossing(SIG, row, c.threshold, clip=False)[0] for row in reps[n]]
+            r = [sl.first_fall(SIG, row, c.threshold, clip=False)[0] for row in reps[n]]
             lo, hi = expanded(x, percentile_interval(r), 3)
             assert c.ci == pytest.approx((max(lo, 0.0), max(hi, 0.0)), rel=1e-12)
 

@@ -23,7 +23,7 @@ from fibril_hpc.campaign.analysis.report import write_report
 from fibril_hpc.campaign.analysis.report_data import build
 from fibril_hpc.campaign.analysis.si import SI_COLUMNS
 from fibril_hpc.campaign.analysis.zero_cell import RELATION_WORDS, law_zero, zero_cell
-from fibril_hpc.campaign.laws.verdict import Relation, ZeroReason, ZeroState
+from fibril_hpc.campaign.laws.verdict import LawState, Relation, ZeroReason, ZeroState
 from fibril_hpc.campaign.storage.record import COLUMNS
 
 from synthetic_campaigns import law_campaign, loss_campaign
@@ -340,3 +340,25 @@ def test_the_loss_figure_shows_the_span_it_names(data, monkeypatch):
     for k, ax in panels(fig).items():
         assert ax.get_xlim()[1] <= 1.1 * far[k]
         assert [t for t in ax.texts if t.get_text() == f"span to {10 * far[k]:.4g} →"]
+
+
+def test_an_undefined_law_draws_no_line_in_the_loss_figure(data, monkeypatch):
+    """The k~ = 0.01, 64 x 64 page drew a dotted alpha/sigma~ - beta beside "line's zero: none
+    (law not fitted)", its legend entry "α/σ̃ − β" without the word undefined. An undefined law
+    draws nothing (as c_vs_sigma.png); a poor fit keeps its own legend entry."""
+    def alpha_lines(fig, k):
+        ax = next(a for a in fig.axes if (m := re.search(r"= ([\d.]+):", a.get_title()))
+                  and float(m.group(1)) == k)
+        return [lab for lab in ax.get_legend_handles_labels()[1] if lab.startswith("α/")]
+
+    st = data.studies[1.0]
+    assert st.ab.ok
+    fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
+    assert alpha_lines(fig, 1.0)
+    monkeypatch.setattr(st, "verdict", replace(st.verdict, law=LawState.UNDEFINED))
+    fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
+    assert alpha_lines(fig, 1.0) == []
+    monkeypatch.setattr(st, "verdict", replace(st.verdict, law=LawState.POOR))
+    fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
+    assert alpha_lines(fig, 1.0) == [f"α/{figures_loss.SIG} − β (poor fit)"]
+    assert alpha_lines(fig, 1.0)[0] in [t.get_text() for t in fig.legends[0].get_texts()]

@@ -37,7 +37,8 @@ def _plateau(extra) -> float:
         * (1.0 - 1.0 / d.get("n_side", 1e9))
 
 
-def _synthetic(folder, grid, name=None, keep=lambda extra: True):
+def _synthetic(folder, grid, name=None, keep=lambda extra: True, keep_job=lambda job: True,
+               law=None):
     """A campaign written through the real store, every record with its stored scene, whose
     F~_A rises to a plateau set by the swept values (each seed a fixed 1 % off the next); only
     the jobs whose swept values pass ``keep`` are written (the others still to run)."""
@@ -45,9 +46,10 @@ def _synthetic(folder, grid, name=None, keep=lambda extra: True):
     spec = spec_from_dict(grid, base_dir=str(folder))
     recs = []
     for i, j in enumerate(spec.jobs):
-        if not keep(dict(j.extra)):
+        if not (keep(dict(j.extra)) and keep_job(j)):
             continue
-        fa = _plateau(j.extra) * math.tanh(j.preload / 0.1) * (1 + 0.01 * (j.seed - 1))
+        fa = law(j) if law else \
+            _plateau(j.extra) * math.tanh(j.preload / 0.1) * (1 + 0.01 * (j.seed - 1))
         recs.append({**j.inputs(), "status": "done", "message": "", "F_P": j.preload, "F_A": fa,
                      "record_id": f"{i:032x}", "finished": store.now(), "group_size": 1,
                      "wall_s": 0.0, "scene_yaml": scene_to_yaml(spec.job_scene(j))})
@@ -318,3 +320,54 @@ def test_the_shipped_machine_and_size_sweeps_have_no_variants():
     for name in ("machine.yaml", "finite_size.yaml"):
         with open(os.path.join(here, name)) as fh:
             assert swept_lab_fields({"campaign_yaml": fh.read()}) == {}, name
+
+
+@pytest.mark.slow
+def test_a_k_without_the_largest_size_is_named_not_dropped_in_silence(tmp_path):
+    """A merged file whose k~ = 1 ran 4 x 4 only and k~ = 0.01 also 8 x 8: the per-(k~, sigma~)
+    tables read n_side = 8 (k~ = 0.01 alone) and the page says so, naming k~ = 1's size."""
+    grid = dict(GRID, sweep={"n_side": [4, 8]})
+    grid["scene"] = {k: v for k, v in GRID["scene"].items() if k != "n_side"}
+    path = _synthetic(tmp_path, grid, keep_job=lambda j: not (j.k_tilde == 1.0
+                                                               and dict(j.extra)["n_side"] == 8))
+    write_report(path, str(tmp_path / "rep"), n_boot=20)
+    assert {r["k_tilde"] for r in _csv(tmp_path / "rep" / "plateau.csv")} == {"0.01"}
+    page = " ".join((tmp_path / "rep" / "README.md").read_text().split())
+    assert ("k̃ = 1 ran no job at n_side = 8 (largest: 4): the σ̃_c line, the per-(k̃, σ̃) "
+            "tables and the figures leave them out") in page
+
+
+@pytest.mark.slow
+def test_the_size_loss_table_gives_the_measured_sigma_c_at_the_size_read(tmp_path):
+    """One number, one interval per page: the k~ = 0.01 64 x 64 page gave sigma~_c 1.28 [0.458,
+    1.83] in the alpha/beta table and [0.684, inf] in the size-loss table (two readings)."""
+    from fibril_hpc.campaign.laws.reading import pillar_floor
+
+    def law(j):                  # the plateau falls through 3 pillars between sigma~ 0.4 and 0.8
+        n = dict(j.extra)["n_side"]
+        top = 0.5 * math.exp(-4.0 * j.sigma_tilde) * (1 + 0.05 * (j.seed - 1))
+        return (top + pillar_floor(n, 0.16)) * math.tanh(j.preload / 0.05)
+
+    grid = dict(GRID, k_tilde=[1.0], sigma_tilde=[0.2, 0.4, 0.8, 1.6], seeds=4,
+                sweep={"n_side": [4, 8]}, scene={"preset": "fast", "tip": "flat"})
+    write_report(_synthetic(tmp_path, grid, law=law), str(tmp_path / "rep"), n_boot=40)
+    ab = _csv(tmp_path / "rep" / "alpha_beta.csv")[0]
+    rows = {r["n_side"]: r for r in _csv(tmp_path / "rep" / "size_loss.csv")}
+    few = rows["8"]
+    assert 0.4 < float(ab["sigma_tilde_c_measured"]) < 0.8
+    assert [few[c] for c in ("sigma_few", "sigma_few_lo", "sigma_few_hi")] == \
+        [ab[c] for c in ("sigma_tilde_c_measured", "sigma_tilde_c_measured_lo",
+                         "sigma_tilde_c_measured_hi")]
+
+
+@pytest.mark.slow
+def test_a_size_sweep_of_tips_that_are_not_flat_reads_no_loss_across_sizes(tmp_path):
+    """Its thresholds are flat pillars' pull-off: with sphere tips the per-(k~, sigma~) reading
+    has no floor, and the size-loss section read one anyway (8: 0.446 beside "no loss")."""
+    grid = dict(GRID, k_tilde=[1.0], sweep={"n_side": [4, 8]})
+    grid["scene"] = {k: v for k, v in GRID["scene"].items() if k != "n_side"}
+    write_report(_synthetic(tmp_path, grid), str(tmp_path / "rep"), n_boot=20)
+    assert not (tmp_path / "rep" / "size_loss.csv").exists()
+    page = " ".join((tmp_path / "rep" / "README.md").read_text().split())
+    assert ("Where adhesion is lost across sizes is not read (no pillar floor: the tips are not "
+            "flat punches: its thresholds are flat pillars' pull-off).") in page

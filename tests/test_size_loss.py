@@ -246,11 +246,11 @@ def test_the_drift_state(q, ci, state):
 def test_curve_crossing_is_exact_on_a_power_law_and_bounded():
     sig = [0.2, 0.4, 0.8]
     p = [0.5 * (x / 0.2) ** -2 for x in sig]           # 0.5, 0.125, 0.03125
-    s, br = sl.curve_crossing(sig, p, 0.05)
+    s, br = sl.first_fall(sig, p, 0.05)
     assert br == (0.4, 0.8) and s == pytest.approx(0.2 * (0.5 / 0.05) ** 0.5)
-    assert sl.curve_crossing(sig, p, 0.01, clip=False)[0] == math.inf
-    assert sl.curve_crossing(sig, p, 0.9, clip=False)[0] == 0.0
-    assert math.isnan(sl.curve_crossing(sig, p, 0.01)[0])
+    assert sl.first_fall(sig, p, 0.01, clip=False)[0] == math.inf
+    assert sl.first_fall(sig, p, 0.9, clip=False)[0] == 0.0
+    assert math.isnan(sl.first_fall(sig, p, 0.01)[0])
     s, br = sl.level_crossing([0.1, 0.2, 0.3], [0.4, 0.1, -0.2], 0.0)
     assert br == (0.2, 0.3) and s == pytest.approx(0.2 + 0.1 / 3)
 
@@ -374,6 +374,17 @@ def test_a_loss_at_a_fixed_sigma_keeps_its_size_free_sigma(sizes):
     (math.nan, 1.0, 1, sl.UNKNOWN), (math.nan, 31.0, 1, sl.REJECTED), (0.1, 1e9, 0, sl.HOLDS)])
 def test_the_extrapolation_state(lo, chi2, dof, state):
     assert sl.extrapolation_state(lo, chi2, dof) == state
+    assert sl.extrapolation_state(lo, chi2, dof, 0.05) == state
+
+
+@pytest.mark.parametrize("hi, chi2, state", [
+    (-1e-9, 1.0, sl.BELOW), (0.0, 1.0, sl.GONE), (-0.05, 30.1, sl.REJECTED),
+    (math.nan, 1.0, sl.GONE)])
+def test_an_interval_wholly_below_0_is_no_plateau(hi, chi2, state):
+    """The k~ = 0.01 page read P∞ = -0.0796 [-0.0988, -0.0526] at sigma~ = 0.7 as **gone**: a
+    line that overshoots 0 says the plateau falls faster than N^(-3/4), not that it is 0."""
+    assert sl.extrapolation_state(-0.1, chi2, 1, hi) == state
+    assert (sl.BELOW in sl.NO_LIMIT) and (sl.GONE not in sl.NO_LIMIT)
 
 
 @pytest.mark.parametrize("rejected, kind", [
@@ -456,3 +467,78 @@ def test_a_limit_read_with_an_exponent_the_sizes_do_not_back_says_so(draws):
     assert "(N^(−3/4) assumed: these sizes measure p = 0.3 [0.2, 0.45])" in line({1.0: other})
     none = replace(s, p_state=sl.NOT_DETERMINED, sigma_inf_kind=sl.NO_LOSS)
     assert "assumed" not in line({1.0: none})          # no limit read: nothing to qualify
+
+
+@pytest.mark.parametrize("below, blocked", [((), False), ((0.6,), False), ((0.4,), True),
+                                            ((0.3, 0.6), True)])
+def test_a_line_below_0_blocks_only_at_or_below_the_bracket_and_is_named_only_then(below,
+                                                                                  blocked):
+    """The 8-20 k~ = 0.01 page named P∞ below 0 at sigma~ = 2-4, above the bracket, as why no
+    sigma~_inf was read, while the drift was the reason: the page names what blocks it."""
+    from fibril_hpc.campaign.analysis import size_loss_page
+
+    sigmas, p_inf = (0.2, 0.3, 0.4, 0.6), (0.4, 0.2, 0.05, -0.1)
+    s = sl.SizeLoss(1.0, st.PHI, (16, 32, 64), sigmas, {}, {}, {}, {})
+    s.area_drift = sl.Drift((32, 64), -0.25, (-0.33, -0.12), sl.FIXED_PILLAR)
+    s.extrapolations = [sl.Extrapolation(v, (16, 32, 64), p, state=sl.BELOW if v in below
+                                         else sl.HOLDS) for v, p in zip(sigmas, p_inf)]
+    sl._loss_at(s, "sigma_inf", THR, sigmas, p_inf, [], 4)
+    assert s.sigma_inf_kind == sl.NOT_SIZE_FREE       # the drift alone keeps falling
+    line = size_loss_page.headline_line({1.0: s})
+    assert "keeps falling" in line
+    assert ("lies below 0 at" in line) == blocked, line
+    if blocked:
+        assert "lies below 0 at σ̃ = " + ", ".join(f"{v:g}" for v in below if v <= 0.4) in line
+    # without the drift, a line below 0 up to the bracket's top alone blocks the reading
+    s.area_drift = sl.Drift((32, 64), 0.0, (-0.1, 0.1), sl.FIXED_SIGMA)
+    sl._loss_at(s, "sigma_inf", THR, sigmas, p_inf, [], 4)
+    assert (s.sigma_inf_kind == sl.NOT_SIZE_FREE) == blocked
+
+
+def test_a_lost_group_below_the_first_held_one_does_not_end_the_reading():
+    """A plateau at or below the threshold before any sigma~ holds (a lost group below the first
+    held one) is not the loss: the crossing is the first fall after a held sigma~, as the
+    report's bracket (it read 0 before); from sigma~ = 0 the crossing is linear in sigma~."""
+    s, br = sl.first_fall([0.5, 1.0, 2.0], [0.5, 4.0, 0.25], 1.0)
+    assert br == (1.0, 2.0) and s == pytest.approx(math.sqrt(2.0))
+    assert sl.first_fall([0.5, 1.0, 2.0], [0.5, 4.0, 2.0], 1.0, clip=False) == (0.0, (0.0, 0.5))
+    s, br = sl.first_fall([0.0, 1.0], [2.0, 0.5], 1.0)
+    assert br == (0.0, 1.0) and 0.0 < s < 1.0
+
+
+def test_the_read_size_gives_the_measured_sigma_c_and_no_other_size():
+    from fibril_hpc.campaign.laws.loss import BRACKET, NO_LOSS, Loss
+
+    s = sl.size_loss(1.0, st.brushes((8, 16), seeds=3, rng=5), st.PHI, n_boot=30)
+    few = {c.n_side: c for c in s.few}
+    thr = few[16].threshold
+    own8 = (few[8].sigma, few[8].ci)
+    m = Loss(kind=BRACKET, bracket=(0.5, 0.6), sigma=0.55, ci=(0.41, 0.83), threshold=thr)
+    sl.adopt_measured(s, 16, m)
+    assert (few[16].kind, few[16].sigma, few[16].ci, few[16].bracket) == (
+        sl.BRACKET, 0.55, (0.41, 0.83), (0.5, 0.6))
+    assert (few[8].sigma, few[8].ci) == own8
+    # another threshold (another brush's floor) or no bracket: the size keeps its own reading
+    for other in (Loss(kind=BRACKET, sigma=0.7, ci=(0.6, 0.9), threshold=thr * 1.01),
+                  Loss(kind=NO_LOSS, threshold=thr)):
+        sl.adopt_measured(s, 8, other)
+        assert (few[8].sigma, few[8].ci) == own8
+
+
+def test_the_figure_tells_a_line_below_0_from_a_rejected_one(monkeypatch):
+    """loss_across_sizes.png drew P∞ below 0 (sigma~ 0.7 and 1 of the k~ = 0.01 16-64 file) as
+    red crosses labelled "P∞ rejected (χ²/dof > 30)"."""
+    from fibril_hpc.campaign.analysis import figures_size_loss as fsl
+
+    s = sl.size_loss(1.0, st.brushes((8, 12, 16), rng=2), st.PHI, n_boot=20)
+    states = [sl.REJECTED, sl.BELOW, sl.BELOW, sl.HOLDS]
+    for e, state in zip(s.extrapolations, states + [sl.HOLDS] * 9):
+        e.state = state
+    figs = []
+    monkeypatch.setattr(fsl, "save", lambda fig, out, name: figs.append(fig) or name)
+    fsl.loss_across_sizes(SimpleNamespace(size_loss={1.0: s}), "unused")
+    labels = dict(zip(*reversed(figs[0].axes[0].get_legend_handles_labels())))
+    rej = labels[f"P∞ rejected (χ²/dof > {sl.POOR_CHI2:g})"]
+    below = labels["P∞ below 0: the line overshoots"]
+    x = [e.sigma_tilde for e in s.extrapolations]
+    assert list(rej.get_xdata()) == [x[0]] and list(below.get_xdata()) == x[1:3]

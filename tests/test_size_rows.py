@@ -68,11 +68,11 @@ def test_the_headline_counts_the_rows_not_resolved():
 
     rows = [NS(n_side=32, rel=4.38, verdict=AT_FLOOR), NS(n_side=32, rel=0.9, verdict=DIFFERS),
             NS(n_side=64, rel=0.0, verdict=REFERENCE)]
-    d = NS(n_sides=[32, 64], n_side=64, size=rows)
+    d = NS(n_sides=[32, 64], n_side=64, size=rows, size_loss={}, floor=0.0012)
     assert hl.size_line(d).endswith(
         "n_side = 32: +90.0 … +438 % (within the seed scatter in 0 of 1 (k̃, σ̃); not resolved "
         "in 1: the n_side = 64 plateau may be the 3-pillar floor).")
-    d = NS(n_sides=[32, 64], n_side=64, size=rows[:1] + rows[2:])
+    d = NS(n_sides=[32, 64], n_side=64, size=rows[:1] + rows[2:], size_loss={}, floor=0.0012)
     assert hl.size_line(d).endswith(
         "n_side = 32: +438 … +438 % (not resolved in 1: the n_side = 64 plateau may be the "
         "3-pillar floor).")
@@ -96,7 +96,7 @@ def test_a_merged_file_reads_each_k_against_its_own_largest_size():
     from fibril_hpc.campaign.analysis import headline as hl
     from fibril_hpc.campaign.analysis import tables
 
-    d = NS(n_sides=[8, 16, 20], n_side=20, size=size_rows(by_n, 20))
+    d = NS(n_sides=[8, 16, 20], n_side=20, size=size_rows(by_n, 20), size_loss={}, floor=0.007)
     assert hl.size_line(d).endswith(
         "Plateau against each k̃'s largest n_side (16, 20): n_side = 8: +100 … +100 % (within "
         "the seed scatter in 0 of 1 (k̃, σ̃)); n_side = 16: +66.7 … +66.7 % (within the seed "
@@ -119,5 +119,6 @@ def test_a_reference_interval_reaching_zero_leaves_the_change_open_above():
     assert math.isnan(small.rel_ci[0]) and small.verdict == "no seed interval"
     from fibril_hpc.campaign.analysis import tables
 
-    d = NS(n_sides=[32, 64], n_side=64, size=size_rows(_by_n((0.0, 0.0143), (0.424, 0.629))))
+    d = NS(n_sides=[32, 64], n_side=64, size=size_rows(_by_n((0.0, 0.0143), (0.424, 0.629))),
+           size_loss={}, floor=0.0012)
     assert tables.finite_size(d).page_rows[1][6] == "+436 % [+2865, +inf] %"

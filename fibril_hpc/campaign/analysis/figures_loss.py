@@ -63,7 +63,7 @@ def _c_panel(ax, st, gs):
     top = max([t for t in tops if math.isfinite(t)] or [1.0])
     ax.set_ylim(-0.06 * top, 1.12 * top)
     a = st.ab
-    if a.ok:
+    if a.ok and st.status != "undefined":          # an undefined law draws no line (as c_vs_sigma)
         ls = "-" if st.status == "fitted" else ":"
         lo_x = min(g.sigma_tilde for g in gs)     # the line over the sigma~ run only
         xs = np.linspace(lo_x, x1, 300)
@@ -197,7 +197,7 @@ def loss(data, out_dir, name="sigma_c_loss.png"):
         bot.set_xlabel(f"roughness {SIG}")
         for ax in (top, bot):
             for h, lab in zip(*ax.get_legend_handles_labels()):
-                handles.setdefault(lab.split(" (")[0] if lab.startswith("α/") else lab, h)
+                handles.setdefault(lab, h)      # a poor fit's dotted line keeps its own entry
     for j in range(len(ks), nrow * ncol):
         axes[2 * (j // ncol), j % ncol].set_visible(False)
         axes[2 * (j // ncol) + 1, j % ncol].set_visible(False)

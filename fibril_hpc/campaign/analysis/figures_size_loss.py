@@ -18,7 +18,8 @@ from .figures import FA, KT, SIG, err, legend, save, say, subplots
 
 def loss_across_sizes(data, out_dir, name="loss_across_sizes.png"):
     """One panel per k~: plateau against sigma~ per n_side (seed intervals), P_inf (black,
-    interval band; a sigma~ whose line is rejected a red cross; where no limit is read, points
+    interval band; a sigma~ whose line is rejected a red cross, one whose P_inf lies below 0 an
+    open magenta triangle; where no limit is read, points
     with intervals and no line), the per-area threshold (grey) and the few-pillar thresholds
     (dotted, the size's colour); crossings marked with their intervals on the threshold lines."""
     ks = list(data.size_loss)
@@ -49,7 +50,7 @@ def loss_across_sizes(data, out_dir, name="loss_across_sizes.png"):
             ys = np.array([e.p_inf for e in ex])
             lo = np.array([e.p_inf_ci[0] for e in ex])
             hi = np.array([e.p_inf_ci[1] for e in ex])
-            bad = np.array([e.state == sl.REJECTED for e in ex])
+            bad = np.array([e.state in sl.NO_LIMIT for e in ex])
             if s.sigma_inf_kind == sl.NOT_SIZE_FREE:
                 # no limit is read: P_inf as points only, no line that would cross a threshold
                 ok = ~bad & np.isfinite(lo) & np.isfinite(hi)
@@ -59,9 +60,13 @@ def loss_across_sizes(data, out_dir, name="loss_across_sizes.png"):
                 ax.plot(xs, ys, "ks-", ms=4, lw=1.3, label="P∞ (N → ∞, N^(−3/4))")
                 if np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)):
                     ax.fill_between(xs, lo, hi, color="0.6", alpha=0.35, lw=0)
-            if bad.any():
-                ax.plot(xs[bad], ys[bad], "rx", ms=8, mew=1.5,
+            rej = np.array([e.state == sl.REJECTED for e in ex])
+            if rej.any():
+                ax.plot(xs[rej], ys[rej], "rx", ms=8, mew=1.5,
                         label=f"P∞ rejected (χ²/dof > {sl.POOR_CHI2:g})")
+            if (bad & ~rej).any():
+                ax.plot(xs[bad & ~rej], ys[bad & ~rej], "v", color="m", ms=7, mfc="none",
+                        mew=1.5, label="P∞ below 0: the line overshoots")
         ax.axhline(s.area_threshold, color="0.4", lw=1, ls="--",
                    label=f"per-area threshold {s.area_threshold:g}")
         ax.axhline(0.0, color="0.7", lw=0.6)

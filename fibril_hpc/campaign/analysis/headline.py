@@ -105,6 +105,8 @@ def _law_line(d) -> str:
             rel.setdefault(r, []).append(k)
     where = "; ".join(f"{RELATION_WORDS[r].split(' (')[0]} for k̃ = {_ks(ks)}"
                       for r, ks in rel.items())
+    if not (by["fitted"] or by["poor fit"]):        # no line: no zero to speak of
+        return f"c = α/σ̃ − β ({n} k̃): " + "; ".join(parts) + "."
     return (f"c = α/σ̃ − β ({n} k̃): " + "; ".join(parts) + ". Its zero α/β is an "
             "extrapolation of that line, given beside the measurement in the α/β table"
             + (f" ({where})" if where else "") + ".")
@@ -120,6 +122,13 @@ def _cautions(d) -> list:
     if unsure:
         out.append(f"for k̃ = {_ks(unsure)} a group beside the loss is not certainly lost or "
                    "holding with its seeds (its interval is widened to hold it)")
+    away = d.elsewhere
+    if away:
+        ks = sorted(away, reverse=True)
+        out.append(f"k̃ = {_ks(ks)} ran no job at n_side = {d.n_side} (largest: "
+                   + ", ".join(f"{away[k]}" for k in ks) + "): the σ̃_c line, the "
+                   "per-(k̃, σ̃) tables and the figures leave them out; the across-sizes tables "
+                   "read them at their sizes")
     if d.seed_limits:
         out.append(f"{len(d.seed_limits)} (k̃, σ̃) stopped at the maximum of seeds: auto short "
                    "of its precision target (plateau table)")
@@ -270,7 +279,11 @@ def size_line(d) -> str:
             if floor else [])
         parts.append(f"n_side = {n}: {pct(rel[0])} … {pct(rel[-1])} %"
                      + (f" ({'; '.join(said)})" if said else ""))
-    return text + ("; ".join(parts) if parts else "no smaller n_side with a plateau yet") + "."
+    unread = (len(d.n_sides) >= 2 and not d.size_loss and not math.isfinite(d.floor)
+              and d.floor_note)
+    return text + ("; ".join(parts) if parts else "no smaller n_side with a plateau yet") + "." + (
+        f" Where adhesion is lost across sizes is not read ({d.floor_note}: its thresholds are "
+        "flat pillars' pull-off)." if unread else "")
 
 
 __all__ = ["headline", "notes", "of_what", "seeds_line", "size_line", "MAX_LINES",

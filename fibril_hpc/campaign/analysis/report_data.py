@@ -24,7 +24,7 @@ from ..laws import fit as _fit
 from ..laws.intervals import preset_bias
 from ..laws.reading import FEW_PILLARS, levels, pillar_floor
 from ..laws.size import size_rows
-from ..laws.size_loss import size_losses
+from ..laws.size_loss import adopt_measured, size_losses
 from ..laws.study import N_BOOT, study
 from .batching import coarse_groups
 from .headline import headline, notes
@@ -87,6 +87,9 @@ class ReportData:
     #: the (k~, sigma~) loaded in batches wider than today's bound (:mod:`.batching`): their
     #: rise, and c, are biased
     coarse: list = field(default_factory=list)
+    #: a grid sweeping n_side: the k~ with no done job at :attr:`n_side` ({k~: its largest
+    #: n_side}), which every per-(k~, sigma~) reading leaves out
+    elsewhere: dict = field(default_factory=dict)
 
     def main_jobs(self, jobs) -> list:
         """The jobs the per-(k~, sigma~) readings use: those of :attr:`variant` and
@@ -273,7 +276,8 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
             n_read = max(by_n)
             rows = size_rows(size_studies, max(n_sides))
         phi = campaign_phi(c.meta, done)
-        if len(by_n) >= 2 and math.isfinite(phi):
+        # its thresholds are flat pillars' pull-off: no floor (tips not flat), no section
+        if len(by_n) >= 2 and math.isfinite(phi) and math.isfinite(floor):
             sloss = size_losses(by_n, phi, n_boot=n_boot)
         points = by_n.get(n_read, {})
         studies = size_studies.get(n_read, {})
@@ -293,6 +297,12 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
     d.seed_limits = seed_limits(points, floor, d.seeds_auto)
     d.brush = campaign_brush(c.meta, done, n_read)
     d.size_loss = sloss
+    for k, s in sloss.items():                     # the read size: the measured sigma~_c
+        if k in studies:
+            adopt_measured(s, n_read, studies[k].loss)
+    if n_sides:
+        for n, pts in sorted(by_n.items()):
+            d.elsewhere.update({k: n for k, _ in pts if k not in studies})
     d.coarse = [g for g in coarse_groups(d.main_jobs(jobs)) if g in points]
     d.headline, d.notes = headline(d), notes(d)
     return d

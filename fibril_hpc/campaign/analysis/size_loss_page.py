@@ -12,6 +12,7 @@ import math
 
 from ..laws import size_loss as sl
 from ..laws.reading import FEW_PILLARS
+from ..laws.size_drift import keeps_falling
 from .tables import Table, fmt, num, val_ci
 
 
@@ -53,13 +54,21 @@ def _sigma_cell(kind: str, sigma: float, ci: tuple, bracket: tuple) -> str:
 
 
 def _not_size_free(s) -> str:
-    """Why no N -> inf sigma~ is read for a k~ (its extrapolation rejected, or its crossings
-    drifting as a limit that keeps falling), with the drift they show."""
+    """Why no N -> inf sigma~ is read for a k~, naming only what blocks it
+    (:func:`.laws.size_loss.size_loss`): the lines in N up to the crossing's bracket that read no
+    limit (rejected, or below 0), and crossings drifting as a limit that keeps falling; with the
+    drift they show."""
+    top = s.sigma_inf_bracket[1]
+    block = [e for e in s.extrapolations if e.state in sl.NO_LIMIT and e.sigma_tilde <= top]
     bad = ", ".join(f"{e.sigma_tilde:g} (χ²/dof {e.chi2 / e.dof:.3g})"
-                    for e in s.extrapolations if e.state == sl.REJECTED)
-    why = (f"P∞ + A N^(−3/4) does not fit at σ̃ = {bad}" if bad else
-           "its per-size crossings drift as a limit that keeps falling")
-    return (f"no N → ∞ σ̃ read ({why}); the per-size crossing moves as N^q, "
+                    for e in block if e.state == sl.REJECTED)
+    neg = ", ".join(f"{e.sigma_tilde:g}" for e in block if e.state == sl.BELOW)
+    why = ([f"P∞ + A N^(−3/4) does not fit at σ̃ = {bad}"] if bad else []) + (
+        [f"its P∞ lies below 0 at σ̃ = {neg} (a plateau is never negative: it falls faster than "
+         "N^(−3/4) there)"] if neg else []) + (
+        ["its per-size crossings drift as a limit that keeps falling"]
+        if keeps_falling(s.area_drift.state) or not (bad or neg) else [])
+    return (f"no N → ∞ σ̃ read ({'; '.join(why)}); the per-size crossing moves as N^q, "
             f"q = {_drift_text(s.area_drift)}")
 
 
@@ -151,8 +160,14 @@ def extrapolation_table(d) -> Table:
             t.page_rows.append([f"{k:g}", f"{e.sigma_tilde:g}", ", ".join(map(str, e.n_sides)),
                                 val_ci(e.p_inf, e.p_inf_ci, ".3g"), fmt(e.amplitude, ".3g"),
                                 f"{fmt(e.chi2, '.2g')} ({e.dof})",
-                                f"**{e.state}**" if e.state in (sl.GONE, sl.REJECTED) else e.state])
+                                _state_cell(e.state)])
     return t
+
+
+def _state_cell(state: str) -> str:
+    if state == sl.BELOW:
+        return "**below 0**: the line overshoots (a plateau is never negative)"
+    return f"**{state}**" if state in (sl.GONE, sl.REJECTED) else state
 
 
 def headline_line(size_loss: dict) -> str:

@@ -239,7 +239,8 @@ def coefficients(d) -> Table:
                                *_ci_csv(g.c0_ci), num(r.F_P0), num(r.F_A0), num(r.c_detect),
                                str(not out).lower(), num(rr), num(d.bias), dom, out, note])
             fitcell = (f"no: {out}" if out else
-                       (f"yes: {fmt(rr, '+.3g')}" if st.ab.ok else "yes (no fit)"))
+                       f"yes: {fmt(rr, '+.3g')}" if st.ab.ok and st.status != "undefined" else
+                       "yes (law undefined)" if st.ab.ok else "yes (no fit)")
             t.page_rows.append([f"{k:g}", f"{g.sigma_tilde:g}", _state_cell(r), _c_cell(r, g.c_ci),
                                 fmt(r.F_P_half, ".3g"), val_ci(r.c0, g.c0_ci), fmt(r.F_P0, ".3g"),
                                 fitcell, bias_cell(r.c, d.bias), dom, _c_page_note(r)])

@@ -112,6 +112,30 @@ def crossing(s_lo: float, s_hi: float, p_lo: float, p_hi: float, thr: float,
     return min(max(s, s_lo), s_hi) if clip else s
 
 
+def first_fall(sigmas, plateaus, thr: float, clip: bool = True) -> tuple:
+    """(sigma~, (lo, hi) bracket) where the plateau over ascending ``sigmas`` first falls to
+    ``thr`` after a sigma~ above it (the bracket rule of :func:`bracket_indices` read on the
+    numbers), by :func:`crossing` between the two sigma~ around it. Points that are no positive
+    number are skipped. Without such a fall: lost at the smallest sigma~ (bracket (0, first);
+    sigma~ 0 unclipped) or adhesion held from there on (bracket (last, inf); inf unclipped);
+    clipped, those give NaN. Nothing to read: NaN and no bracket. Each brush size's crossing
+    of :mod:`.size_loss` is read so."""
+    s = np.asarray(sigmas, dtype=float)
+    p = np.asarray(plateaus, dtype=float)
+    ok = np.isfinite(p) & (p > 0)
+    s, p = s[ok], p[ok]
+    if s.size == 0 or not thr > 0:
+        return math.nan, NAN2
+    above = p > thr
+    for j in range(1, s.size):
+        if not above[j] and above[:j].any():
+            lo, hi = float(s[j - 1]), float(s[j])
+            return crossing(lo, hi, float(p[j - 1]), float(p[j]), thr), (lo, hi)
+    if not above[0]:
+        return (math.nan if clip else 0.0), (0.0, float(s[0]))
+    return (math.nan if clip else math.inf), (float(s[-1]), math.inf)
+
+
 def another_set(s: float, ci: tuple, factor: float = ANOTHER) -> tuple:
     """The interval another seed set of as many seeds would measure the crossing in: ``ci``
     widened about ``s`` by ``factor`` on each side in log sigma~ (an end at 0 or inf stays; no
@@ -189,5 +213,5 @@ def measure(sigmas, states, plateaus, thr: float, reps=None, n_seeds=(),
     return out
 
 
-__all__ = ["Loss", "measure", "crossing", "another_set", "ANOTHER", "bracket_indices", "BRACKET",
-           "NO_LOSS", "ALL_LOST", "NOT_READ"]
+__all__ = ["Loss", "measure", "crossing", "first_fall", "another_set", "ANOTHER", "bracket_indices",
+           "BRACKET", "NO_LOSS", "ALL_LOST", "NOT_READ"]

@@ -14,9 +14,13 @@ Intervals are percentile intervals of the replicates widened about the value for
 seed count involved (:func:`.intervals.expanded`).
 
 **Few-pillar crossing** (per size): the sigma~ where the seed-mean plateau first falls to
-``FEW_PILLARS`` pillars' pull-off, FEW_PILLARS phi^(1/4) N^(-3/4) (N = n_side^2 pillars), interpolated
-log-log between the two sigma~ around it. This is the report's measured sigma~_c of that size;
-its threshold is a pillar *count*, so it moves with N.
+``FEW_PILLARS`` pillars' pull-off, FEW_PILLARS phi^(1/4) N^(-3/4) (N = n_side^2 pillars), after a
+sigma~ above it, interpolated log-log between the two sigma~ around it (:func:`.loss.first_fall`);
+its replicates are read the same way over every sigma~ (0 or inf where one does not cross inside
+the sigma~ run). This is the report's measured sigma~_c of that size; at the size the report's
+other tables read, the page gives that measurement itself (:func:`adopt_measured`: the same
+number, the interval of its bracket's replicates). Its threshold is a pillar *count*, so it
+moves with N.
 
 **Per-area crossing** (per size): the same crossing of a fixed threshold ``area_threshold`` in
 F~ units (the plateau is F_A / F_c with F_c the Kendall force of a punch of the whole brush's
@@ -43,11 +47,13 @@ has q < 0: the state reads the sizes run, not the limit.
 least-squares line P(N) = P_inf + A N^(-p) with p = 3/4 (a fixed number of pillars' pull-off
 scales as N^(-3/4)), weights 1 / (seed sd of the plateau)^2 at each size (floored at
 ``SD_FLOOR`` of the plateau). P_inf's interval: the replicates refitted with the same weights.
-State HOLDS when its interval lies above 0, GONE when it reaches 0 or below, UNKNOWN without an
-interval, REJECTED when the line, weighted by seed variances (not one seed or no resamples),
-does not fit: chi^2 / dof above ``POOR_CHI2`` (four seeds: a residual over its sd is a t of 3
-dof, t^2 = 30 leaves ~1 %; synthetic losses at a fixed sigma~ stay below 21, at a fixed
-sigma / d_c1 give 60-2 400 over 16-64).
+State HOLDS when its interval lies above 0, GONE when it reaches 0, BELOW when it lies wholly
+below 0 (a plateau is never negative: the line overshoots, the plateau falls faster than
+N^(-3/4) there, and like REJECTED it reads no limit), UNKNOWN without an interval, REJECTED when
+the line, weighted by seed variances (not one seed or no resamples), does not fit: chi^2 / dof
+above ``POOR_CHI2`` (four seeds: a residual over its sd is a t of 3 dof, t^2 = 30 leaves ~1 %;
+synthetic losses at a fixed sigma~ stay below 21, at a fixed sigma / d_c1 give 60-2 400 over
+16-64).
 **p measured**: one fit of every sigma~ whose groups hold adhesion at every size
 (rise resolved or not resolved; a lost group's plateau is a few pillars, N^(-3/4) by
 construction) with its own P_inf and A and one shared p (``scipy.optimize.least_squares``),
@@ -64,7 +70,7 @@ below it; per replicate the same (+inf when a replicate's P_inf never falls to i
 already at or below it at the smallest sigma~). Kind BRACKET, NO_LOSS or ALL_LOST.
 **sigma~_0**: the same for P_inf = 0 (its upper end is often unbounded: near its zero P_inf
 scatters about 0, and a replicate that stays above 0 never crosses). Either is NOT_SIZE_FREE,
-with no number, when a sigma~ up to its bracket's top is REJECTED (a first crossing rests on
+with no number, when a sigma~ up to its bracket's top is REJECTED or BELOW (a first crossing rests on
 all of them) or the per-area drift names only limits that keep falling (``keeps_falling``).
 
 **Pillar variables** (docs/finite-size.md): with N pillars of diameter D on the side L,
@@ -80,6 +86,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .intervals import expanded, percentile_interval, replicate_sd
+from .loss import first_fall
 from .reading import FEW_PILLARS, RESOLVED, UNRESOLVED, pillar_floor, read_group
 from .size_drift import (BRACKET, FIXED_PILLAR, FIXED_SIGMA, FIXED_SPRING, LIMITS, NEITHER, NOT_MEASURED,
                          Q_PILLAR, Q_SPRING, Drift, crossing_drift, drift_state, keeps_falling,
@@ -100,6 +107,9 @@ N_BOOT = 400
 NO_LOSS, ALL_LOST, NOT_READ = "no loss", "lost at every sigma~", "not read"   # and BRACKET
 #: P_inf states
 HOLDS, GONE, UNKNOWN, REJECTED = "holds", "gone", "unknown", "model rejected"
+BELOW = "below 0"
+#: states of the line in N that read no limit
+NO_LIMIT = (REJECTED, BELOW)
 #: chi^2 / dof of P(N) = P_inf + A N^(-3/4) above which that line is rejected (module text)
 POOR_CHI2 = 30.0
 #: the kind of sigma~_inf and sigma~_0 when none is read (a rejected line, a falling drift)
@@ -178,38 +188,16 @@ class SizeLoss:
 
 
 # ------------------------------------------------------------------------------ crossings
-def curve_crossing(sigmas, plateaus, thr: float, clip: bool = True) -> tuple:
-    """(sigma~, (lo, hi) bracket) where the curve ``plateaus`` over ascending ``sigmas`` first
-    falls to ``thr`` from above, log-log between the two sigma~ around it. NaN sigma~ where no
-    point lies above (lost at every sigma~: the bracket is (0, first)) or none falls to it
-    (bracket (last, inf)); unclipped, those give 0 and inf (a bootstrap replicate)."""
-    s = np.asarray(sigmas, float)
-    p = np.asarray(plateaus, float)
-    ok = np.isfinite(p) & (p > 0)
-    s, p = s[ok], p[ok]
-    if s.size == 0 or not thr > 0:
-        return math.nan, NAN2
-    if p[0] <= thr:
-        return (0.0 if not clip else math.nan), (0.0, float(s[0]))
-    below = np.flatnonzero(p <= thr)
-    if below.size == 0:
-        return (math.inf if not clip else math.nan), (float(s[-1]), math.inf)
-    j = int(below[0])
-    lo, hi = float(s[j - 1]), float(s[j])
-    t = (math.log(p[j - 1]) - math.log(thr)) / (math.log(p[j - 1]) - math.log(p[j]))
-    return math.exp(math.log(lo) + t * math.log(hi / lo)), (lo, hi)
-
-
 def _crossing(n, sigmas, plat, reps, thr, n_seeds) -> Crossing:
     c = Crossing(int(n), float(thr), n_seeds=int(n_seeds))
-    s, br = curve_crossing(sigmas, plat, thr)
+    s, br = first_fall(sigmas, plat, thr)
     c.bracket = br
     if not math.isfinite(br[0]):
         return c
     c.kind = BRACKET if math.isfinite(s) else (ALL_LOST if br[0] == 0.0 else NO_LOSS)
     c.sigma = s
     if math.isfinite(s) and reps is not None:
-        r = [curve_crossing(sigmas, row, thr, clip=False)[0] for row in reps]
+        r = [first_fall(sigmas, row, thr, clip=False)[0] for row in reps]
         c.replicates = tuple(r)
         c.ci = tuple(max(v, 0.0) for v in expanded(s, percentile_interval(r), n_seeds))
     return c
@@ -367,7 +355,8 @@ def _extrapolate(out: SizeLoss, reps: dict, n_boot: int) -> None:
         if have_reps:
             r = [fit_line(x, [reps[n][j, i] for n in sizes], w)[0] for j in range(n_boot)]
             e.p_inf_ci = expanded(a, percentile_interval(r), n_min)
-        e.state = extrapolation_state(e.p_inf_ci[0], chi2 if have_reps else math.nan, e.dof)
+        e.state = extrapolation_state(e.p_inf_ci[0], chi2 if have_reps else math.nan, e.dof,
+                                      e.p_inf_ci[1])
         out.extrapolations.append(e)
         rows.append((i, w))
     ss = [e.sigma_tilde for e in out.extrapolations]
@@ -391,12 +380,12 @@ def _extrapolate(out: SizeLoss, reps: dict, n_boot: int) -> None:
         out.p_state = exponent_state(out.p, out.p_ci)
 
 
-def extrapolation_state(lo: float, chi2: float, dof: int) -> str:
-    """The state of P_inf with interval lower end ``lo`` (NaN: no interval) from a line of
+def extrapolation_state(lo: float, chi2: float, dof: int, hi: float = math.nan) -> str:
+    """The state of P_inf with interval (``lo``, ``hi``) (NaN: no interval) from a line of
     ``chi2`` on ``dof`` degrees of freedom (module text)."""
     if dof > 0 and chi2 / dof > POOR_CHI2:
         return REJECTED
-    return HOLDS if lo > 0 else GONE if lo <= 0 else UNKNOWN
+    return HOLDS if lo > 0 else BELOW if hi < 0 else GONE if lo <= 0 else UNKNOWN
 
 
 def exponent_state(p: float, ci: tuple) -> str:
@@ -418,7 +407,7 @@ def _loss_at(out: SizeLoss, name: str, level: float, ss, p_inf, rep_pinf, n_min)
     if not math.isfinite(br[0]):
         return
     if keeps_falling(out.area_drift.state) or any(    # a first crossing: every P_inf below
-            e.state == REJECTED and e.sigma_tilde <= br[1] for e in out.extrapolations):
+            e.state in NO_LIMIT and e.sigma_tilde <= br[1] for e in out.extrapolations):
         setattr(out, name + "_kind", NOT_SIZE_FREE)
         return
     setattr(out, name + "_kind", BRACKET if math.isfinite(s0) else
@@ -440,11 +429,22 @@ def size_losses(by_n_k: dict, phi: float, n_boot: int = N_BOOT, rng_seed: int = 
             for k in ks}
 
 
+def adopt_measured(s: SizeLoss, n_side: int, measured) -> None:
+    """Give ``s``'s few-pillar crossing at ``n_side`` the measured sigma~_c of that size
+    (:class:`.loss.Loss`, a bracket of the same threshold): one number, one interval per page."""
+    for c in s.few:
+        if (c.n_side == n_side and measured.kind == BRACKET
+                and math.isclose(c.threshold, measured.threshold, rel_tol=1e-9)):
+            c.kind, c.sigma, c.ci, c.bracket = BRACKET, measured.sigma, measured.ci, measured.bracket
+
+
 __all__ = ["SizeLoss", "Crossing", "Extrapolation", "Drift", "crossing_drift", "drift_state",
            "Q_PILLAR", "Q_SPRING", "LIMITS", "FIXED_SIGMA", "FIXED_PILLAR", "FIXED_SPRING",
            "NEITHER", "NOT_MEASURED", "pillar_spring", "pillar_reach", "size_loss", "size_losses",
-           "curve_crossing", "level_crossing", "fit_line", "fit_shared_p", "exponent_state",
+           "adopt_measured",
+           "level_crossing", "fit_line", "fit_shared_p", "exponent_state",
            "extrapolation_state", "pillar_sigma", "pillar_k", "P_FEW", "AREA_THRESHOLD",
            "BRACKET", "NO_LOSS", "ALL_LOST", "NOT_READ", "HOLDS", "GONE", "UNKNOWN", "REJECTED",
+           "BELOW", "NO_LIMIT",
            "POOR_CHI2", "NOT_SIZE_FREE", "CONSISTENT", "DIFFERS", "NOT_DETERMINED", "NOT_FITTED",
            "STEADY", "DRIFTS"]
