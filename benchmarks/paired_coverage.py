@@ -1,7 +1,9 @@
 """Do the report's seed intervals hold the truth at the rate they claim, with seeds that are the
 same brush at every sigma~ and a plateau that fades (not a clean step)?
 
-    python benchmarks/paired_coverage.py [--draws 30] [--n-boot 100]
+    python benchmarks/paired_coverage.py [--draws 30] [--n-boot 100] [--sets 3 5 10 mixed]
+
+(``--sets`` runs some seed counts only, e.g. one per process on a larger machine.)
 
 Synthetic campaigns of known truth (tests/synthetic_campaigns.py: ``fade_campaign``): one k~,
 eight sigma~ from 0.3 to 2 (x 1.31 apart), a plateau fading to the last pillar's pull-off
@@ -69,11 +71,15 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--draws", type=int, default=30)
     ap.add_argument("--n-boot", type=int, default=100)
+    ap.add_argument("--sets", nargs="+", choices=["3", "5", "10", "mixed"],
+                    default=["3", "5", "10", "mixed"], help="the seed counts to run")
     a = ap.parse_args(argv)
     rows, t0 = [], time.time()
     print(f"{'seeds':>11} | {'sigma_c CI':>10} | {'span':>6} | {'alpha':>6} | {'beta':>6} | "
           f"{'alpha/beta':>10} | median widths (sigma_c CI, span) | states not certain")
     for name, seeds in seed_sets().items():
+        if name.split()[0] not in a.sets:
+            continue
         res = [one(seeds, d, a.n_boot) for d in range(a.draws)]
 
         def rate(key, res=res):

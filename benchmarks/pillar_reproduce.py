@@ -1,6 +1,8 @@
 """Does the measured sigma~_c reproduce with another seed set, on brushes made of whole pillars?
 
-    python benchmarks/pillar_reproduce.py [--draws 20] [--n-boot 200] [--n-side 12]
+    python benchmarks/pillar_reproduce.py [--draws 20] [--n-boot 200] [--n-side 12] [--first-draw 0]
+
+(``--first-draw`` starts at another draw, to split the draws over processes.)
 
 Synthetic truth that looks like the real data near a loss (tests/synthetic_campaigns.py,
 :func:`pillar_plateau`): a seed is one brush of n_side^2 standard normal heights, the same at
@@ -136,9 +138,10 @@ def main(argv=None) -> int:
     ap.add_argument("--draws", type=int, default=20)
     ap.add_argument("--n-boot", type=int, default=200)
     ap.add_argument("--n-side", type=int, default=12)
+    ap.add_argument("--first-draw", type=int, default=0)
     a = ap.parse_args(argv)
     t0, res = time.time(), []
-    for d in range(a.draws):
+    for d in range(a.first_draw, a.first_draw + a.draws):
         r = one(a.n_side, d, a.n_boot)
         res.append(r)
         print(f"draw {d:2d}: {r['est_a']:.3f} {np.round(r['ci_a'], 3)} span {np.round(r['span_a'], 3)}"
@@ -166,8 +169,10 @@ def main(argv=None) -> int:
     print(f"estimates: median {statistics.median(ests):.3f}, 2.5-97.5 % "
           f"{np.percentile(ests, 2.5):.3f}-{np.percentile(ests, 97.5):.3f}")
     base = write_results(os.path.join(HERE, "results"), "pillar_reproduce",
-                         [dict(draw=d, **{k: str(v) for k, v in r.items()}) for d, r in enumerate(res)],
-                         {"draws": a.draws, "n_boot": a.n_boot, "n_side": a.n_side,
+                         [dict(draw=a.first_draw + d, **{k: str(v) for k, v in r.items()})
+                          for d, r in enumerate(res)],
+                         {"draws": a.draws, "first_draw": a.first_draw, "n_boot": a.n_boot,
+                          "n_side": a.n_side,
                           "wall_s": time.time() - t0})
     print(f"wrote {base}.csv/.json ({time.time() - t0:.0f} s)")
     return 0
