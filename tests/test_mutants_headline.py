@@ -6,6 +6,7 @@ the four-line limit, and each note, word for word, from stand-ins with the field
 it."""
 
 import math
+from dataclasses import replace
 from types import SimpleNamespace as NS
 
 from fibril_hpc.campaign.analysis import headline as hl
@@ -118,15 +119,25 @@ def test_the_law_line_of_one_state():
         "extrapolation of that line, given beside the measurement in the α/β table.")
     d = _data({1.0: _study(LawState.POOR, Relation.NONE, chi2=3.0),
                0.5: _study(LawState.POOR, Relation.NONE, chi2=4.5)})
+    # a poor fit shows no zero (the α/β table gives it only for a fitted law): none promised
     assert hl.headline(d)[2] == (
         "c = α/σ̃ − β (2 k̃): a **poor fit** (for orientation only) for k̃ = 1 (χ²/dof 3), 0.5 "
-        "(χ²/dof 4.5). Its zero α/β is an extrapolation of that line, given beside the "
-        "measurement in the α/β table.")
+        "(χ²/dof 4.5). No line shows a zero (the α/β table says why).")
     d = _data({1.0: _study(LawState.UNDEFINED, Relation.ABOVE)})
     # no line fitted: no zero is spoken of (the α/β table gives none)
     assert hl.headline(d)[2] == "c = α/σ̃ − β (1 k̃): undefined for k̃ = 1."
     d = _data({1.0: _study(LawState.UNDEFINED, Relation.ABOVE),
                0.5: _study(LawState.POOR, Relation.NONE, chi2=3.0)})
+    assert hl.headline(d)[2].endswith(". No line shows a zero (the α/β table says why).")
+    # fitted, but beta consistent with 0 (the r18 and 8-20 pages): the page gives no zero
+    flat = _study()
+    flat.verdict = replace(flat.verdict, zero=ZeroState.NONE, zero_reason=ZeroReason.BETA_ZERO)
+    d = _data({1.0: flat, 0.5: _study(LawState.UNDEFINED, Relation.NONE)})
+    assert hl.headline(d)[2] == ("c = α/σ̃ − β (2 k̃): fitted within the seed scatter for k̃ = 1; "
+                                 "undefined for k̃ = 0.5. No line shows a zero (the α/β table "
+                                 "says why).")
+    # one k~ shows a zero: the sentence stands
+    d = _data({1.0: flat, 0.5: _study()})
     assert hl.headline(d)[2].endswith("Its zero α/β is an extrapolation of that line, given "
                                       "beside the measurement in the α/β table.")
 

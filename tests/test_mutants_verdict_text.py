@@ -187,6 +187,14 @@ def test_the_measured_loss_in_one_sentence():
         "sigma~_c < 0.2")
     assert vt.loss_note(_study(measured=loss.Loss())) == (
         "no sigma~ whose state could be read: the loss is not measured")
+    # seeds: auto ran fewer seeds at one end: its certainty is that of the carried plateau,
+    # which no table shows (the 18 x 18 page's sigma~ = 3.2 looked certain in the plateau table)
+    m = loss.Loss(kind=loss.BRACKET, bracket=(2.93, 3.2), span=(2.69, 6.4), sigma=3.09,
+                  threshold=0.0248, uncertain=(2.93, 3.2), matched=(10, 6))
+    assert vt.loss_note(_study(measured=m)).endswith(
+        "; with their seeds the state of sigma~ = 2.93, 3.2 is not certain (plateau interval "
+        "holds the threshold, the smaller group's as carried to the same brushes): the loss "
+        "lies in (2.69, 6.4]")
 
 
 def _group(out, state=RESOLVED, in_fit=False, c_lower=0.0123456):

@@ -362,3 +362,46 @@ def test_an_undefined_law_draws_no_line_in_the_loss_figure(data, monkeypatch):
     fig = _captured(monkeypatch, figures_loss, figures_loss.loss, data)
     assert alpha_lines(fig, 1.0) == [f"α/{figures_loss.SIG} − β (poor fit)"]
     assert alpha_lines(fig, 1.0)[0] in [t.get_text() for t in fig.legends[0].get_texts()]
+
+
+def test_an_undefined_law_shows_no_residual_against_its_line(data, monkeypatch):
+    """The k~ = 0.01 64 x 64 page gave 'in α/β fit: yes: +0.0763' under a law it calls
+    undefined: a residual against a line the page does not show."""
+    k, st = next((k, st) for k, st in data.studies.items() if st.ab.ok)
+    col = tables.coefficients(data).page_rows[0].index("in α/β fit: c − law")
+
+    def cells():
+        return [r[col] for r in tables.coefficients(data).page_rows[1:]
+                if float(r[0]) == k and r[col].startswith("yes")]
+
+    assert cells() and all(c.startswith("yes: ") for c in cells())
+    monkeypatch.setattr(st, "verdict", replace(st.verdict, law=LawState.UNDEFINED))
+    assert cells() and set(cells()) == {"yes (law undefined)"}
+
+
+def test_c0_read_on_the_first_contact_floor_is_drawn_open(data, monkeypatch):
+    """The 18 x 18 page's c0_vs_sigma.png drew the points its table calls 'a ratio, not a
+    slope' like the slopes, an upturn near the loss that looked like physics."""
+    from matplotlib.colors import to_rgba
+
+    from fibril_hpc.campaign.laws.reading import C0_ON_FLOOR
+
+    def faces(fig):
+        return [(tuple(round(float(x), 6) for x in line.get_xdata()),
+                 to_rgba(line.get_markerfacecolor()))
+                for line in fig.axes[0].get_lines() if line.get_marker() == "s"]
+
+    drawn = [g for st in data.studies.values() for g in st.groups
+             if math.isfinite(g.reading.c0) and g.reading.c0 > 0 and g.sigma_tilde > 0]
+    for g in drawn:                     # none on the floor: every point filled
+        monkeypatch.setattr(g.reading, "c_notes",
+                            [n for n in g.reading.c_notes if not n.startswith(C0_ON_FLOOR)])
+    fig = _captured(monkeypatch, figures_coeff, figures_coeff.c0_vs_sigma, data)
+    assert faces(fig) and all(f[1][3] > 0 for f in faces(fig))
+    assert "open:" not in fig.axes[0].get_title()
+    g = drawn[0]
+    monkeypatch.setattr(g.reading, "c_notes", list(g.reading.c_notes) + [C0_ON_FLOOR + " (…)"])
+    fig = _captured(monkeypatch, figures_coeff, figures_coeff.c0_vs_sigma, data)
+    open_ = [x for x, face in faces(fig) if face[3] == 0]
+    assert open_ == [(round(g.sigma_tilde, 6),)]
+    assert "open: read on the first-contact floor" in fig.axes[0].get_title()

@@ -122,3 +122,20 @@ def test_a_reference_interval_reaching_zero_leaves_the_change_open_above():
     d = NS(n_sides=[32, 64], n_side=64, size=size_rows(_by_n((0.0, 0.0143), (0.424, 0.629))),
            size_loss={}, floor=0.0012)
     assert tables.finite_size(d).page_rows[1][6] == "+436 % [+2865, +inf] %"
+
+
+def test_the_ratio_figure_names_each_k_s_own_reference(monkeypatch):
+    """The merged 8-20 file's plateau_vs_n_side.png said 'ratio to n_side = 20' where two k~
+    are ratios to 16."""
+    from fibril_hpc.campaign.analysis import figures_size
+
+    figs = []
+    monkeypatch.setattr(figures_size, "save", lambda fig, out, name: figs.append(fig) or name)
+    rows = [NS(k_tilde=k, sigma_tilde=0.5, n_side=n, plateau=p, plateau_ci=(p * 0.9, p * 1.1),
+               state="reached", rel=r, rel_ci=(r - 0.1, r + 0.1), ref_n_side=ref)
+            for k, n, p, r, ref in ((1.0, 8, 0.6, 0.2, 16), (1.0, 16, 0.5, 0.0, 16),
+                                    (0.01, 8, 0.9, 0.5, 20), (0.01, 20, 0.6, 0.0, 20))]
+    figures_size.plateau_vs_n_side(NS(size=rows, n_sides=[8, 16, 20]), "unused")
+    assert figs[-1].axes[1].get_title().startswith("ratio to each k̃'s largest n_side (16, 20)")
+    figures_size.plateau_vs_n_side(NS(size=rows[2:], n_sides=[8, 16, 20]), "unused")
+    assert figs[-1].axes[1].get_title().startswith("ratio to n_side = 20 (")

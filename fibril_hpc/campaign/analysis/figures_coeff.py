@@ -12,6 +12,7 @@ import numpy as np
 
 from ..laws import loss as _loss
 from ..laws.alphabeta import model as ab_model
+from ..laws.reading import C0_ON_FLOOR
 from .figures import FA, KT, SIG, colour, err, legend, save, say, subplots
 from .loss_page import measured_span
 from .notation import page_text
@@ -123,19 +124,31 @@ def c_vs_sigma(data, out_dir, name="c_vs_sigma.png"):
     return save(fig, out_dir, name)
 
 
+def _on_floor(g) -> bool:
+    return any(n.startswith(C0_ON_FLOOR) for n in g.reading.c_notes)
+
+
 def c0_vs_sigma(data, out_dir, name="c0_vs_sigma.png"):
     """The first-contact slope c0 against sigma~ per k~ (log-log), seed intervals."""
     fig, ax = subplots(figsize=(7.6, 4.6))
-    drawn = False
+    drawn = floor_seen = False
     for i, (k, st) in enumerate(data.studies.items()):
         sel = [g for g in st.groups if math.isfinite(g.reading.c0) and g.reading.c0 > 0
                and g.sigma_tilde > 0]
         if sel:
             drawn = True
-            ax.errorbar([g.sigma_tilde for g in sel], [g.reading.c0 for g in sel],
-                        yerr=np.array([err(g.reading.c0, g.c0_ci) for g in sel]).T, fmt="s-",
-                        ms=5, lw=1, capsize=2, color=colour(i, len(data.studies)),
-                        label=f"{KT}={k:g}")
+            col = colour(i, len(data.studies))
+            ax.plot([g.sigma_tilde for g in sel], [g.reading.c0 for g in sel], "-", lw=1,
+                    color=col)
+            # open: read on the first-contact floor, a ratio F~_A/F~_P and not a slope
+            for floor, mfc in ((False, col), (True, "none")):
+                part = [g for g in sel if _on_floor(g) == floor]
+                if part:
+                    ax.errorbar([g.sigma_tilde for g in part], [g.reading.c0 for g in part],
+                                yerr=np.array([err(g.reading.c0, g.c0_ci) for g in part]).T,
+                                fmt="s", ms=5, capsize=2, color=col, mfc=mfc,
+                                label=None if floor else f"{KT}={k:g}")
+            floor_seen = floor_seen or any(_on_floor(g) for g in sel)
     if drawn:
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -144,7 +157,8 @@ def c0_vs_sigma(data, out_dir, name="c0_vs_sigma.png"):
         say(ax, "no c₀ > 0 to draw (no rise, or no σ̃ > 0)")
     ax.set_xlabel(f"roughness {SIG}")
     ax.set_ylabel(f"first-contact slope c$_0$ ({FA}/" + "$\\tilde F_P$, first quarter of the rise)")
-    ax.set_title("first-contact slope c$_0$ (seed intervals)", fontsize=10)
+    ax.set_title("first-contact slope c$_0$ (seed intervals" + ("; open: read on the first-contact "
+                 "floor, a ratio, not a slope)" if floor_seen else ")"), fontsize=10)
     fig.tight_layout()
     return save(fig, out_dir, name)
 

@@ -36,7 +36,11 @@ def plateau_vs_n_side(data, out_dir, name="plateau_vs_n_side.png"):
         if math.isfinite(r.plateau):
             groups.setdefault((r.k_tilde, r.sigma_tilde), []).append(r)
     sizes = sorted({r.n_side for rs in groups.values() for r in rs} | set(data.n_sides))
-    ref = max(data.n_sides) if data.n_sides else None
+    top = max(data.n_sides) if data.n_sides else None
+    # each k~ against its own largest size (a merged file whose k~ ran other sizes)
+    refs = sorted({getattr(r, "ref_n_side", None) or top for r in data.size}) or [top]
+    ref = (f"n_side = {refs[0]}" if len(refs) == 1 else
+           "each k̃'s largest n_side (" + ", ".join(map(str, refs)) + ")")
     if not groups:
         for ax in (a1, a2):
             say(ax, "no plateau to draw: no done job with finite forces")
@@ -78,9 +82,8 @@ def plateau_vs_n_side(data, out_dir, name="plateau_vs_n_side.png"):
     a1.set_ylabel(f"plateau {FA}")
     a1.set_title(f"plateau {FA} against the brush size (seed intervals; open: not reached)",
                  fontsize=10)
-    a2.set_ylabel(f"plateau / plateau at n_side = {ref} (log axis)")
-    a2.set_title(f"ratio to n_side = {ref} (bars: the range the two seed intervals allow)",
-                 fontsize=10)
+    a2.set_ylabel(f"plateau / plateau at {ref if len(refs) == 1 else 'the largest'} (log axis)")
+    a2.set_title(f"ratio to {ref} (bars: the range the two seed intervals allow)", fontsize=10)
     fig.suptitle("one line per (k̃, σ̃); markers offset slightly in n_side so that the bars stay "
                  "apart", fontsize=9)
     fig.tight_layout()

@@ -105,8 +105,11 @@ def _law_line(d) -> str:
             rel.setdefault(r, []).append(k)
     where = "; ".join(f"{RELATION_WORDS[r].split(' (')[0]} for k̃ = {_ks(ks)}"
                       for r, ks in rel.items())
-    if not (by["fitted"] or by["poor fit"]):        # no line: no zero to speak of
-        return f"c = α/σ̃ − β ({n} k̃): " + "; ".join(parts) + "."
+    if not any(math.isfinite(law_zero(st)[0]) for st in d.studies.values()):
+        # no line shows a zero (none fitted, or beta consistent with 0): none to speak of
+        return f"c = α/σ̃ − β ({n} k̃): " + "; ".join(parts) + "." + (
+            " No line shows a zero (the α/β table says why)."
+            if by["fitted"] or by["poor fit"] else "")
     return (f"c = α/σ̃ − β ({n} k̃): " + "; ".join(parts) + ". Its zero α/β is an "
             "extrapolation of that line, given beside the measurement in the α/β table"
             + (f" ({where})" if where else "") + ".")

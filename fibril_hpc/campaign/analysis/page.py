@@ -45,9 +45,13 @@ DEFINITIONS = """\
 * **Measured σ̃_c** (model-free, the headline's number): per k̃, the crossing of the seed-mean
   plateau with 3 pillars' pull-off between the last σ̃ holding adhesion and the first lost
   (log–log), its seed interval from the bootstrap over seed labels paired across σ̃. Its **span**
-  ("lost in (lo, hi]", the interval to quote): that bracket widened to the next σ̃ whose state is
-  certain with its seeds (plateau interval not holding the threshold) and to the crossing's
-  interval; an infinite end stays infinite.
+  ("lost in (lo, hi]", the interval to quote): that bracket widened to the next σ̃ on each side
+  whose state is certain with its seeds (plateau interval not holding the threshold; where
+  seeds: auto ran fewer seeds at one end, the interval of its plateau carried to the other's
+  seeds); on a side with no such σ̃, to where another seed set as large would measure σ̃_c (the
+  seed interval widened by √2 in log σ̃: an extrapolation past the σ̃ run where it ends there);
+  an infinite end stays infinite. The seed interval is the scatter of the line between the two
+  bracketing σ̃ and may reach past a σ̃ whose state is certain; the span does not.
 * **α, β** and the **zero of the line**: c = max(α/σ̃ − β, 0) fitted per k̃ to the groups whose
   rise is resolved (scipy.optimize.least_squares, weights 1/sd of c from the seeds, sd widened
   by √(n/(n−1))); groups that lost adhesion are left out of the line; σ̃ = 0, plateaus not reached

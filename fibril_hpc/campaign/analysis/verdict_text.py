@@ -187,7 +187,9 @@ def _uncertain(m) -> str:
         return ""
     lo, hi = m.span
     return ("; with their seeds the state of sigma~ = " + ", ".join(f"{x:g}" for x in m.uncertain)
-            + f" is not certain (plateau interval holds the threshold): the loss lies in "
+            + " is not certain (plateau interval holds the threshold"
+            + (", the smaller group's as carried to the same brushes" if m.matched else "")
+            + f"): the loss lies in "
             f"({lo:.3g}, {'∞' if hi == math.inf else f'{hi:.3g}'}]")
 
 

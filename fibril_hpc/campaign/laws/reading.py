@@ -87,6 +87,8 @@ NUMERIC_RTOL = 0.01
 PATH_RTOL = 0.03
 #: fractions of the rise that define c (its first half) and c0 (its first quarter)
 HALF, QUARTER = 0.5, 0.25
+#: the start of the note that c0 was read on the first-contact floor (a ratio, not a slope)
+C0_ON_FLOOR = "c0 read on the first-contact floor"
 #: the smallest level's F~_A at least this fraction of the next one's: the first-contact floor
 FLOOR_RATIO = 0.95
 #: a plateau of at most this many pillars' pull-off that does not rise: adhesion lost
@@ -416,8 +418,8 @@ def read_group(seed, preload, F_P, F_A, half: float = HALF, floor: float = math.
     if not math.isfinite(c0):
         c_notes.append("c0 undefined: F~_A or F~_P <= 0 at the smallest preload")
     elif lv.F_A[0] >= FLOOR_RATIO * lv.F_A[1]:
-        c_notes.append("c0 read on the first-contact floor (F~_A hardly changes between the two "
-                       "smallest preloads): a ratio F~_A/F~_P that grows as the preload shrinks")
+        c_notes.append(C0_ON_FLOOR + " (F~_A hardly changes between the two smallest "
+                       "preloads): a ratio F~_A/F~_P that grows as the preload shrinks")
     lo_x, hi_x = float(lv.F_P[max(ih - 1, 0)]), float(lv.F_P[min(ih, len(lv) - 1)])
     if lo_x > 0 and hi_x / lo_x > COARSE_RATIO:
         c_notes.append(f"the half point lies between preloads {lo_x:.3g} and {hi_x:.3g} "
