@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from ..laws.size import reference_sizes
 from .figures import FA, KT, SIG, err, legend, save, say, subplots
 
 #: relative offset in n_side between the lines, so that their error bars stay apart
@@ -36,9 +37,8 @@ def plateau_vs_n_side(data, out_dir, name="plateau_vs_n_side.png"):
         if math.isfinite(r.plateau):
             groups.setdefault((r.k_tilde, r.sigma_tilde), []).append(r)
     sizes = sorted({r.n_side for rs in groups.values() for r in rs} | set(data.n_sides))
-    top = max(data.n_sides) if data.n_sides else None
     # each k~ against its own largest size (a merged file whose k~ ran other sizes)
-    refs = sorted({getattr(r, "ref_n_side", None) or top for r in data.size}) or [top]
+    refs = reference_sizes(data.size, data.n_sides)
     ref = (f"n_side = {refs[0]}" if len(refs) == 1 else
            "each k̃'s largest n_side (" + ", ".join(map(str, refs)) + ")")
     if not groups:

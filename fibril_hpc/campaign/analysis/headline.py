@@ -24,7 +24,7 @@ import math
 from ..laws import loss as _loss
 from ..laws.intervals import dominant
 from ..laws.reading import FEW_PILLARS, LOST, UNRESOLVED
-from ..laws.size import AT_FLOOR, DIFFERS, WITHIN
+from ..laws.size import AT_FLOOR, DIFFERS, WITHIN, reference_sizes
 from ..laws.verdict import Relation
 from .batching import C_BIAS
 from .loss_page import measured_span, open_note, search_max, span_text
@@ -256,7 +256,7 @@ def size_line(d) -> str:
     def ref_of(r) -> int:
         return getattr(r, "ref_n_side", None) or top
 
-    refs = sorted({ref_of(r) for r in d.size}) or [top]
+    refs = reference_sizes(d.size, d.n_sides)
     ref = refs[0] if len(refs) == 1 else None
     text = (f"Finite size: n_side = {', '.join(map(str, d.n_sides))}; the other tables and "
             f"figures read n_side = {d.n_side if d.n_side is not None else '—'}"

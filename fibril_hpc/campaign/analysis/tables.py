@@ -17,7 +17,7 @@ import statistics
 from dataclasses import dataclass, field
 
 from ..laws.intervals import dominant
-from ..laws.size import DIFFERS
+from ..laws.size import DIFFERS, reference_sizes
 from .loss_page import measured_cell, measured_span
 from .notation import clauses, once, page_text
 from .verdict_text import (ab_notes, ci_method, law_why, line_out, loss_note, relation_why,
@@ -312,7 +312,7 @@ def pct(v: float) -> str:
 def finite_size(d) -> Table:
     """Per (k~, sigma~, n_side): the plateau with its seed interval, and its relative change
     against the largest n_side of the grid (:mod:`.laws.size`)."""
-    refs = sorted({r.ref_n_side for r in d.size}) or ([max(d.n_sides)] if d.n_sides else [None])
+    refs = reference_sizes(d.size, d.n_sides)
     ref = (f"n_side = {refs[0]}" if len(refs) == 1
            else f"the largest n_side of each k̃ ({', '.join(map(str, refs))})")
     t = Table("finite_size", f"Finite size: the plateau against the brush size n_side "

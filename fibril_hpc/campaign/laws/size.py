@@ -122,4 +122,12 @@ def size_rows(by_n: dict, ref_n_side: int | None = None) -> list:
     return rows
 
 
-__all__ = ["SizeRow", "size_rows", "WITHIN", "DIFFERS", "REFERENCE", "UNKNOWN", "AT_FLOOR"]
+def reference_sizes(rows, n_sides) -> list:
+    """The sorted reference sizes of ``rows`` (each k~'s largest n_side; a row without one takes
+    the largest of ``n_sides``), or ``[largest]`` without rows ([None] without sizes)."""
+    top = max(n_sides) if n_sides else None
+    return sorted({getattr(r, "ref_n_side", None) or top for r in rows}) or [top]
+
+
+__all__ = ["SizeRow", "size_rows", "reference_sizes", "WITHIN", "DIFFERS", "REFERENCE", "UNKNOWN",
+           "AT_FLOOR"]
