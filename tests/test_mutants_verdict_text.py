@@ -296,6 +296,21 @@ def test_the_measured_cell_and_span():
     m = loss.Loss(kind=loss.ALL_LOST, bracket=(0.0, 0.15))
     assert lp.measured_cell(_study(measured=m)) == "< 0.15 (lost at every σ̃ run)"
     assert lp.measured_cell(_study(measured=loss.Loss())) == "—"
+    # a corner grid (sigma~ 0.01 and 2.1) read '0.574 [0.57, 0.579]': over a bracket wider than
+    # x 4 the seed interval is the line's scatter, not the loss's; left out, and said why
+    m = loss.Loss(kind=loss.BRACKET, bracket=(0.01, 2.1), span=(0.01, 2.1), sigma=0.5742,
+                  ci=(0.57, 0.579))
+    assert lp.measured_cell(_study(measured=m)) == (
+        "0.5742 in (0.01, 2.1] (the bracket is × 210 wide: the value is the log–log line's "
+        "between its ends and has no seed interval worth quoting; σ̃ inside it would measure "
+        "the loss)")
+    for hi, shown in ((0.04, True), (0.0401, False)):     # x 4 exactly still shows it
+        m = loss.Loss(kind=loss.BRACKET, bracket=(0.01, hi), span=(0.01, hi), sigma=0.02,
+                      ci=(0.015, 0.03))
+        assert ("[0.015, 0.03]" in lp.measured_cell(_study(measured=m))) == shown
+    m = loss.Loss(kind=loss.BRACKET, bracket=(0.0, 0.5), span=(0.0, 0.5), sigma=0.2,
+                  ci=(0.1, 0.3))
+    assert lp.measured_cell(_study(measured=m)) == "0.2 [0.1, 0.3] in (0, 0.5]"
 
 
 def test_a_bound_says_the_span_its_seeds_leave():

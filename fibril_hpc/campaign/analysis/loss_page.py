@@ -42,10 +42,21 @@ def open_note(st) -> str:
     return f"; with its seeds {which}: lost in {span_text(span)}"
 
 
+#: a bracket wider than this factor (two of the search's steps) is too coarse for its crossing's
+#: seed interval: that is the scatter of the log-log line between its ends, not of the loss
+WIDE_BRACKET = 4.0
+
+
 def measured_cell(st) -> str:
     """The measured sigma~_c of one k~ for a table cell: 'value [CI] in (lo, hi]' (the span of
-    :func:`measured_span`), or the bound."""
+    :func:`measured_span`), or the bound. Over a bracket wider than :data:`WIDE_BRACKET` the
+    seed interval is left out and the cell says why (a corner grid of sigma~ 0.01 and 2.1 read
+    '0.574 [0.57, 0.579]')."""
     lo, hi = st.loss_bracket
+    if st.loss_kind == _loss.BRACKET and lo > 0 and hi / lo > WIDE_BRACKET:
+        return (f"{st.sigma_loss:.4g} in {span_text(measured_span(st))} (the bracket is "
+                f"× {hi / lo:.3g} wide: the value is the log–log line's between its ends and "
+                "has no seed interval worth quoting; σ̃ inside it would measure the loss)")
     if st.loss_kind == _loss.BRACKET:
         return f"{fmt_ci(st.sigma_loss, st.sigma_loss_ci)} in {span_text(measured_span(st))}"
     if st.loss_kind == _loss.NO_LOSS:
@@ -71,4 +82,4 @@ def search_max(meta) -> float:
         return math.nan
 
 
-__all__ = ["measured_cell", "measured_span", "span_text", "search_max"]
+__all__ = ["WIDE_BRACKET", "measured_cell", "measured_span", "span_text", "search_max"]

@@ -51,7 +51,8 @@ DEFINITIONS = """\
   seeds); on a side with no such σ̃, to where another seed set as large would measure σ̃_c (the
   seed interval widened by √2 in log σ̃: an extrapolation past the σ̃ run where it ends there);
   an infinite end stays infinite. The seed interval is the scatter of the line between the two
-  bracketing σ̃ and may reach past a σ̃ whose state is certain; the span does not.
+  bracketing σ̃ and may reach past a σ̃ whose state is certain; the span does not. Over a
+  bracket wider than × 4 it is left out (the line's shape, not the seeds, sets the value).
 * **α, β** and the **zero of the line**: c = max(α/σ̃ − β, 0) fitted per k̃ to the groups whose
   rise is resolved (scipy.optimize.least_squares, weights 1/sd of c from the seeds, sd widened
   by √(n/(n−1))); groups that lost adhesion are left out of the line; σ̃ = 0, plateaus not reached
