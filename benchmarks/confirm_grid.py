@@ -1,8 +1,9 @@
-"""The issue's corner grid under ``confirm: global`` (the reference) and ``confirm: local``,
-scene by scene, with the curves compared point by point.
+"""The issue's corner grid under ``confirm: global`` (the reference) and a faster path
+(``--path local``: ``confirm: local``; ``--path multipole``: ``far_field: multipole``), scene by
+scene, with the curves compared point by point.
 
     python benchmarks/confirm_grid.py run --out DIR [--sides 18 36] [--presets fast default]
-                                          [--jobs N] [--max-wall-s S]
+                                          [--jobs N] [--max-wall-s S] [--path multipole]
     python benchmarks/confirm_grid.py table DIR
 
 ``run`` simulates every corner (n_side x preset x k~ 10, 1, 0.01, 0.001 x sigma~ 0.01, 0.1, 0.5,
@@ -36,6 +37,8 @@ K_CORNERS = (10.0, 1.0, 0.01, 0.001)
 SIGMA_CORNERS = (0.01, 0.1, 0.5, 2.1)
 #: relative CPU of one run by (n_side, preset), to start the dearest first (rough, measured here)
 _WEIGHT = {(18, "fast"): 1, (18, "default"): 3, (36, "fast"): 8, (36, "default"): 25}
+#: the solver options of each path (``global`` is the reference)
+PATHS = {"global": {}, "local": {"confirm": "local"}, "multipole": {"far_field": "multipole"}}
 
 
 def _name(n, preset, k, s, confirm) -> str:
@@ -49,7 +52,7 @@ def run_one(task) -> str:
     from fibril_hpc import Scene, simulate
 
     n, preset, k, s, confirm, out, max_wall = task
-    solver = {"confirm": confirm, "fft_threads": 1}
+    solver = {**PATHS[confirm], "fft_threads": 1}
     if max_wall:
         solver["max_wall_s"] = max_wall
     scene = Scene(n_side=n, k_tilde=k, sigma_tilde=s, F_P=(4.0,), seed=0, preset=preset,
@@ -76,7 +79,10 @@ def cmd_run(a) -> int:
 
     os.makedirs(a.out, exist_ok=True)
     tasks = [(n, p, k, s, c, a.out, a.max_wall_s) for n in a.sides for p in a.presets
-             for k in a.k for s in a.sigma for c in ("global", "local")]
+             for k in a.k for s in a.sigma for c in ("global", a.path)]
+    if a.skip_existing:             # runs of an earlier call (e.g. the reference's) are kept
+        tasks = [t for t in tasks
+                 if not os.path.exists(os.path.join(a.out, _name(*t[:5]) + ".npz"))]
     tasks.sort(key=lambda t: -_WEIGHT.get((t[0], t[1]), t[0] ** 2 / 50))
     with mp.get_context("fork").Pool(a.jobs, maxtasksperchild=1) as pool:
         for line in pool.imap_unordered(run_one, tasks):
@@ -117,11 +123,13 @@ def compare(ref, new) -> dict:
 def cmd_table(a) -> int:
     rows = []
     for (n, preset, k, s), pair in sorted(_pairs(a.folder).items()):
-        if set(pair) != {"global", "local"}:
-            print(f"n {n} {preset} k~ {k:g} sigma~ {s:g}: only {sorted(pair)}")
+        other = sorted(set(pair) - {"global"})
+        if "global" not in pair or len(other) != 1:
+            print(f"n {n} {preset} k~ {k:g} sigma~ {s:g}: runs {sorted(pair)}")
             continue
-        ref, new = pair["global"], pair["local"]
-        row = {"n_side": n, "preset": preset, "k_tilde": k, "sigma_tilde": s,
+        ref, new = pair["global"], pair[other[0]]
+        path = other[0]
+        row = {"n_side": n, "preset": preset, "path": path, "k_tilde": k, "sigma_tilde": s,
                "status": f"{ref['status']}/{new['status']}", **compare(ref, new),
                "pairs_ref": int(ref["fft_pairs"]), "pairs_local": int(new["fft_pairs"]),
                "cpu_ref": float(ref["cpu_s"]), "cpu_local": float(new["cpu_s"]),
@@ -172,6 +180,10 @@ def main(argv=None) -> int:
     r.add_argument("--sigma", type=float, nargs="+", default=list(SIGMA_CORNERS),
                    help="sigma~ corners")
     r.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    r.add_argument("--path", choices=sorted(set(PATHS) - {"global"}), default="local",
+                   help="the path run beside the reference")
+    r.add_argument("--skip-existing", action="store_true",
+                   help="do not rerun a (scene, path) whose .npz is already in --out")
     r.add_argument("--max-wall-s", type=float, default=None,
                    help="solver.max_wall_s of every run (a run past it is recorded as failed)")
     t = sub.add_parser("table")

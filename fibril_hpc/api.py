@@ -217,6 +217,7 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
     if model is None:
         model = build_scene_model(scene, operators, calibrate=calibrate)
     it0, pairs0, solves0 = model.solver.iterations, model.fft_pairs, model.solver.solves
+    far0 = getattr(model.operator, "applications", 0)
     driver = make_driver(model, scene.k_machine)
     state: dict = {}
     if progress is not None:
@@ -244,6 +245,8 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
         "events": driver.events,
         "preconditioner": model.solver.precond.kind,
     }
+    if model.options.far_field == "multipole":      # fibril_hpc.solve.farfield
+        res.stats["far_field_products"] = model.operator.applications - far0
     if isinstance(driver, MachineDriver):
         res.stats.update(jumps=driver.jumps, jump_events=driver.jump_events)
     cert = driver.certificate

@@ -15,12 +15,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .elastic.halfspace import HalfSpace
+from .errors import ConfigError
 from .geometry.grid import Geometry, Lattice, PillarGrid, build_pillar_grid
 from .geometry.scaling import Scaling, critical_stress
 from .geometry.tips import tip_offsets
 from .inputs.heights import pillar_stiffness, setbacks
 from .inputs.options import SolverOptions
 from .inputs.scene import Scene
+from .solve.farfield import MultipoleField
 from .solve.solver import ConstrainedCG
 
 
@@ -78,6 +80,12 @@ def build_model(geometry: Geometry, *, k: float, adhesion: bool, work_of_adhesio
                 and np.array_equal(g0.ix, geometry.ix) and np.array_equal(g0.starts, geometry.starts)):
             raise ValueError("the operator was built on a different grid")
         op = operator
+    if options.far_field == "multipole":
+        try:
+            op = MultipoleField(op, options.far_refresh)
+        except ValueError as exc:
+            raise ConfigError("solver.far_field", options.far_field,
+                              f"'exact' ({exc})") from None
     if isinstance(k, np.ndarray):
         alpha = geometry.h**2 / k              # one spring coefficient per pillar
     else:

@@ -70,10 +70,12 @@ class HalfSpace:
             self._table = np.ascontiguousarray(love(off[:, None], off[None, :], self.geometry.h))
         return self._table
 
-    def add_point_loads(self, u: np.ndarray, idx: np.ndarray, vals: np.ndarray) -> bool:
+    def add_point_loads(self, u: np.ndarray, idx: np.ndarray, vals: np.ndarray,
+                        exact: bool = True) -> bool:
         """u += K[:, idx] vals by a direct sum when that is cheaper than an FFT pair.
 
-        Returns False (and leaves u alone) when an FFT product would be cheaper.
+        Returns False (and leaves u alone) when an FFT product would be cheaper. (``exact``:
+        the sum is always exact here; an approximate operator takes it.)
         """
         if len(idx) > self.max_direct:
             return False
@@ -92,6 +94,16 @@ class HalfSpace:
         self.pair.convolve(self.kernel_hat)
         np.take(self._rout, self._idx, out=out)
         return out
+
+    #: the product CG iterates with: here the exact one (an approximate operator, e.g.
+    #: :class:`fibril_hpc.solve.farfield.MultipoleField`, iterates with its own)
+    apply_increment = apply
+
+    #: increments (CG products, direct sums) are exact: the load path's refresh of u after
+    #: ``refresh_every`` incrementally kept solves only guards against rounding drift (as
+    #: after ``exact_refresh_every`` exact solves under an approximate operator)
+    exact_increments = True
+    refresh_every = exact_refresh_every = 64
 
     def dense(self) -> np.ndarray:
         """Dense influence matrix on the active elements (small grids, tests only)."""

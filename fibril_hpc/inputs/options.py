@@ -136,6 +136,21 @@ class SolverOptions:
         Largest certified force error (in F~ units, F_c) of a state that ``confirm: local``
         accepts without a global solve. Range (0, 1e-2]. Default 5e-5. Stored in the scene text,
         and part of job keys, only off its default.
+    far_field : str
+        How CG applies the half-space in the states' solves between two exact products:
+        ``"exact"`` (default, the reference: every iteration is one FFT pair of the element
+        grid) or ``"multipole"`` (each pillar's own block exact, every other pillar through its
+        force and two tilts, by FFT on the pillar lattice; the state's field is made exact
+        every ``far_refresh`` solves, the direction's solves stay exact:
+        :mod:`fibril_hpc.solve.farfield`). About half the reference's CPU on 18 x 18 and
+        36 x 36 brushes; its error is measured against the reference, not bounded event by
+        event (docs/model.md §6). Needs pillars of one footprint on a lattice and
+        ``confirm: global``; the local cascade is not used with it. Stored in the scene text, and
+        part of job keys, only off its default.
+    far_refresh : int
+        Solves of the state between two exact products under ``far_field: multipole``. Range
+        [1, 1e6]. Default 4. Stored in the scene text, and part of job keys, only off its
+        default.
     """
 
     cg_tol: float = _opt(1e-8, "accuracy", Real(0, 1e-2, lo_open=True))
@@ -162,12 +177,18 @@ class SolverOptions:
                                        extra=True)
     confirm: str = _opt("global", "accuracy", Choice(("global", "local")), extra=True)
     confirm_tol: float = _opt(5e-5, "accuracy", Real(0, 1e-2, lo_open=True), extra=True)
+    far_field: str = _opt("exact", "accuracy", Choice(("exact", "multipole")), extra=True)
+    far_refresh: int = _opt(4, "accuracy", Int(1, 10**6), extra=True)
 
     def __post_init__(self):
         check_fields(self, "solver.")
         if self.confirm == "local" and self.cascade != "local":
             raise ConfigError("solver.confirm", self.confirm, "'global' (or 'local' together "
                               "with solver.cascade: local)")
+        if self.far_field == "multipole" and self.confirm == "local":
+            raise ConfigError("solver.far_field", self.far_field, "'exact' (solver.confirm: "
+                              "local certifies with the exact field, which 'multipole' holds "
+                              "only between refreshes)")
 
     @classmethod
     def from_preset(cls, name: str = DEFAULT_PRESET, **overrides) -> SolverOptions:

@@ -76,6 +76,7 @@ class PathDriver(SnapshotMixin):
         self.att1_ref = np.zeros(n, dtype=np.uint8)
         self.group_of = np.repeat(np.arange(ng), np.diff(self.starts))
         self._since_full = 0
+        self._since_full1 = 0
         self._b = np.empty(n)
         self._ones = np.ones(n)
         self._dl = np.zeros(ng)
@@ -94,7 +95,11 @@ class PathDriver(SnapshotMixin):
         self.tol_g = 1e3 * opts.cg_tol * d_c
         self.tol_dir = opts.direction_tolerance
         self.worst_only = opts.detach_policy == "worst"
-        self.local = LocalCascade(model) if opts.cascade == "local" else None
+        # under far_field: multipole a global solve costs no FFT of the element grid, and the
+        # local cascade (which exists to save global solves) costs more than it saves
+        # (benchmarks/NOTES.md, "The far field as pillar moments")
+        self.local = (LocalCascade(model) if opts.cascade == "local" and opts.far_field == "exact"
+                      else None)
         #: ``confirm: local``: the force bound that lets a local fixed point end a relaxation
         self.certificate = (ForceCertificate(g, model.operator, model.solver.alpha,
                                              opts.confirm_tol * model.scaling.F_c)
@@ -227,8 +232,8 @@ class PathDriver(SnapshotMixin):
         """u <- K x exactly (``confirm: local``, before a bound): direct sums of x - x_ref
         where cheaper than an FFT pair, else one pair (which also refreshes u); x_ref <- x."""
         idx = np.flatnonzero(x != x_ref)
-        if self._since_full < self.REFRESH and self.model.operator.add_point_loads(
-                u, idx, x[idx] - x_ref[idx]):
+        if self._since_full < self.model.operator.refresh_every and \
+                self.model.operator.add_point_loads(u, idx, x[idx] - x_ref[idx]):
             self._since_full += 1
         else:
             self.model.operator.apply(x, u)
@@ -240,17 +245,29 @@ class PathDriver(SnapshotMixin):
         diff = (x != x_ref) | (self.att != att_ref)
         return np.unique(self.group_of[diff])
 
-    #: full FFT recomputation of u after this many incrementally-kept solves (drift guard)
-    REFRESH = 64
+    def _counter(self, x_ref) -> str:
+        """The attribute counting the solves since u was last a full product: one for both
+        fields where increments are exact (the count only guards against rounding drift), one
+        per field where they are not (``solver.far_field: multipole``: each field is refreshed
+        on its own count, and a shared one could keep falling on the same field)."""
+        if self.model.operator.exact_increments or x_ref is self.p_ref:
+            return "_since_full"
+        return "_since_full1"
 
-    def _solve(self, b, x, u, x_ref, tol=None) -> int:
-        """Solve on the current set, keeping u = K x valid without an FFT where possible."""
+    def _solve(self, b, x, u, x_ref, tol=None, exact=False) -> int:
+        """Solve on the current set, keeping u = K x valid without a full product where
+        possible: a full product (one FFT pair) after the operator's ``refresh_every``
+        incrementally kept solves of the field. ``exact``: iterate with the exact product and
+        keep u exact (under ``far_field: multipole``, the direction's solve)."""
+        op = self.model.operator
+        name = self._counter(x_ref)
+        since = getattr(self, name)
         valid = False
-        if self._since_full < self.REFRESH:
+        if since < (op.exact_refresh_every if exact else op.refresh_every):
             idx = np.flatnonzero(x != x_ref)
-            valid = self.model.operator.add_point_loads(u, idx, x[idx] - x_ref[idx])
-        self._since_full = self._since_full + 1 if valid else 0
-        its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid)
+            valid = op.add_point_loads(u, idx, x[idx] - x_ref[idx], exact=exact)
+        setattr(self, name, since + 1 if valid else 0)
+        its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid, exact=exact)
         x_ref[:] = x
         return its
 
@@ -271,7 +288,11 @@ class PathDriver(SnapshotMixin):
                     self.local.solve(groups, self._ones, self.p1, self.p1_ref, self.u1, self.att)
                     done = self.certificate is not None and self._direction_locally()
             if not done:
-                self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir)
+                # exact even under far_field: multipole: the direction carries the force along
+                # a segment and places the next event, and a direction solved with the moments
+                # moved F~_A by up to 0.9 % on small brushes (benchmarks/NOTES.md, "The far
+                # field as pillar moments"); the states' held error did not
+                self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir, exact=True)
         else:
             self.u1[:] = 0.0
             self.p1_ref[:] = 0.0
@@ -364,6 +385,7 @@ class PathDriver(SnapshotMixin):
         self.att_ref[:] = 0
         self.att1_ref[:] = 0
         self._since_full = 0
+        self._since_full1 = 0
         self._fresh_direction = False
         self.model.solver.precond.set_state(None)
         self._forces(self.p, self.f)

@@ -21,6 +21,7 @@ class SnapshotMixin:
         out = {k: getattr(self, k).copy() for k in self._STATE}
         out["d"] = self.d
         out["_since_full"] = self._since_full
+        out["_since_full1"] = self._since_full1
         out["_fresh_direction"] = self._fresh_direction
         out["_precond"] = self.model.solver.precond.state()
         return out
@@ -30,6 +31,7 @@ class SnapshotMixin:
             getattr(self, k)[:] = saved[k]
         self.d = saved["d"]
         self._since_full = saved["_since_full"]
+        self._since_full1 = saved["_since_full1"]
         self._fresh_direction = saved["_fresh_direction"]
         self.model.solver.precond.set_state(saved["_precond"])
 
@@ -82,6 +84,7 @@ class SnapshotMixin:
         self.att_ref[:] = snap.att
         self.att1_ref[:] = snap.att
         self._since_full = 0
+        self._since_full1 = 0
         self._fresh_direction = False
         self.model.solver.precond.set_state(None)     # a function of the set from here on
         self._forces(self.p, self.f)

@@ -34,9 +34,11 @@ class ConstrainedCG:
 
     Parameters
     ----------
-    operator : HalfSpace
-        Provides ``apply(x, out)`` (one FFT pair), ``c0``, ``geometry`` and ``m`` (the FFT size,
-        which ``auto`` weighs in choosing the preconditioner).
+    operator : HalfSpace or MultipoleField
+        Provides ``apply(x, out)`` (the full field K x: one FFT pair), ``apply_increment(d,
+        out)`` (the product the iterations use: the same for a HalfSpace, the far field by pillar
+        moments for a :class:`~fibril_hpc.solve.farfield.MultipoleField`), ``c0``, ``geometry``
+        and ``m`` (the FFT size, which ``auto`` weighs in choosing the preconditioner).
     alpha : float or ndarray
         h^2/k (0 for rigid pillars); an array of one value per pillar for per-pillar stiffness.
     tol : float
@@ -72,14 +74,17 @@ class ConstrainedCG:
         return {k: v for k, v in vars(self).items()
                 if isinstance(v, np.ndarray) and id(v) not in shared}
 
-    def solve(self, att, b, x, u, tol: float | None = None, u_valid: bool = False) -> int:
+    def solve(self, att, b, x, u, tol: float | None = None, u_valid: bool = False,
+              exact: bool = False) -> int:
         """Solve A x = b on S = {att != 0} in place; u <- K x on every active element.
 
         ``tol`` overrides the relative tolerance for this solve. ``u_valid`` says that ``u``
         already holds K x (the caller kept it up to date), which saves the initial product.
-        Returns the iteration count of this solve.
+        ``exact`` iterates with the operator's exact product (``apply``) even where its
+        ``apply_increment`` is an approximation. Returns the iteration count of this solve.
         """
         op, starts, alpha = self.op, self.starts, self.alpha
+        product = op.apply if exact else op.apply_increment
         tol = self.tol if tol is None else tol
         r, z, d, kd, q = self._r, self._z, self._d, self._kd, self._q
         self.solves += 1
@@ -98,7 +103,7 @@ class ConstrainedCG:
         rz = pc.apply(r, att, z)
         d[:] = z
         for it in range(1, self.maxiter + 1):
-            op.apply(d, kd)
+            product(d, kd)
             dq = kern.apply_springs(kd, d, att, starts, alpha, q)
             if not (dq > 0.0 and math.isfinite(dq)):
                 raise NoConvergenceError(

@@ -1,0 +1,149 @@
+"""The half-space product with the far field carried by pillar moments (``solver.far_field:
+multipole``, opt-in; the reference is ``exact``: every CG iteration is one FFT pair on the
+element grid).
+
+On a brush whose pillars share one footprint and sit on a lattice, the product u = K p on the
+active elements splits pillar by pillar:
+
+    u_g = K_self p_g + sum_{h != g} K_gh p_h,
+
+where K_self (m x m, the footprint's own Love coefficients) is the same matrix for every pillar.
+The approximation Ka keeps K_self exactly and replaces every coupling K_gh by its multipole
+expansion to the dipole-dipole term, C T_gh C^T: the moments of pillar h, C^T p_h = (force,
+x-moment, y-moment) with C = [1, x - x_h, y - y_h] over the footprint, couple through the blocks
+T_gh of :func:`fibril_hpc.solve.moments.multipole_kernel` to the value and gradient of the
+displacement at the centre of g, spread over its footprint by C. The couplings are applied by
+FFT on the pillar lattice (:class:`fibril_hpc.solve.lattice.LatticeCouplings`), so a product costs
+one (n_pillars x m) by (m x m) matrix product plus six transforms of the (2 n_y) x (2 n_x)
+lattice: no transform of the element grid, whose padded size is about 25 times the active
+elements at 16 % pillar cover.
+
+Ka is what CG iterates with in the states' solves (:meth:`apply_increment`), and what changes of
+more than one footprint's elements are added with (:meth:`add_point_loads`; exact direct sums
+below); the full field u = K p (:meth:`apply`) stays exact, one FFT pair, and the load path calls
+it every ``refresh_every`` solves of the state. Between two refreshes the state's u is the exact
+field of the last refresh plus Ka times what changed since, and its solves converge to the state
+of that held field, not of K: the error is (K - Ka) times the change since the refresh, not
+bounded event by event. The direction's solves (p1 = A^-1 1_S, which carries the force along a
+segment and places the next event) stay exact: solved with Ka too they moved F~_A by up to 0.9 %
+on small brushes, the held states by at most 0.14 % (benchmarks/NOTES.md, "The far field as
+pillar moments"). ``solver.confirm: local``, whose certificate needs an exact u, does not combine
+with it.
+
+The lattice carries the same multipole couplings the preconditioner of
+:mod:`fibril_hpc.solve.lattice` uses, so with that preconditioner CG on Ka converges in one or two
+iterations: a state's solve costs no FFT of the element grid between refreshes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..elastic.greens import love
+from .lattice import LatticeCouplings, PillarLattice
+from .precond import uniform_footprint
+
+
+class MultipoleField:
+    """u = K p on the active elements, exact on :meth:`apply` and with the far field by pillar
+    moments on :meth:`apply_increment` (module docstring).
+
+    Parameters
+    ----------
+    exact : HalfSpace
+        The reference operator (its FFT pair makes the exact refreshes).
+    refresh_every : int
+        Solves of the state between two exact products (read by the load path).
+
+    Raises ValueError when the pillars do not share one footprint on a regular lattice.
+    """
+
+    #: increments are not exact products: the load path refreshes each field on its own count
+    exact_increments = False
+
+    def __init__(self, exact, refresh_every: int):
+        g = exact.geometry
+        m = uniform_footprint(g)
+        lattice = None if m is None else PillarLattice.of(g, m)
+        if lattice is None:
+            raise ValueError("solver.far_field: multipole needs pillars of one footprint on a "
+                             "regular lattice")
+        self.exact = exact
+        self.geometry = g
+        self.m = exact.m
+        self.c0 = exact.c0
+        m0 = uniform_footprint(g) or 1
+        #: exact direct sums up to one footprint's elements (each costs about a product of Ka)
+        self.max_direct = min(exact.max_direct, m0)
+        self.refresh_every = int(refresh_every)
+        #: exact solves (the direction's) only guard their exactly kept field against drift
+        self.exact_refresh_every = exact.exact_refresh_every
+        self.footprint = m
+        h = g.h
+        ng = g.n_groups
+        x = (g.ix * h).reshape(ng, m)
+        y = (g.iy * h).reshape(ng, m)
+        xr = x[0] - x[0].mean()
+        yr = y[0] - y[0].mean()
+        self._C = np.ascontiguousarray(np.stack([np.ones(m), xr, yr], axis=1))      # (m, 3)
+        self._self = np.ascontiguousarray(love(xr[:, None] - xr[None, :],
+                                               yr[:, None] - yr[None, :], h))
+        self.couplings = LatticeCouplings(lattice, h)
+        self._blocks = np.zeros((ng, 3, 3))
+        self._use = np.ones((ng, 3))
+        self._q = np.zeros((ng, 3))
+        self._t = np.zeros((ng, 3))
+        self._v = np.zeros(g.n_active)
+        self.applications = 0
+
+    # the reference operator's attributes that other parts read (tests, certificates, cascades)
+    @property
+    def table(self) -> np.ndarray:
+        """The exact real-space influence table (local dense solves read it)."""
+        return self.exact.table
+
+    @property
+    def n_pairs(self) -> int:
+        """FFT pairs of the element grid executed so far (the exact products)."""
+        return self.exact.n_pairs
+
+    def work_arrays(self) -> dict:
+        """The arrays this operator owns, the reference operator's included."""
+        out = dict(self.exact.work_arrays())
+        out.update({"self_block": self._self, "far_moments": self._q, "far_values": self._t,
+                    "sparse_change": self._v})
+        return out
+
+    def dense(self) -> np.ndarray:
+        """The exact dense influence matrix (small grids, tests only)."""
+        return self.exact.dense()
+
+    def apply(self, p: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """out <- K p exactly (one FFT pair of the element grid)."""
+        return self.exact.apply(p, out)
+
+    def apply_increment(self, p: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """out <- Ka p: each pillar's own block exact, the others through their moments."""
+        ng, m = self._q.shape[0], self.footprint
+        P = p.reshape(ng, m)
+        O = out.reshape(ng, m)
+        np.matmul(P, self._self, out=O)                 # K_self is symmetric
+        np.matmul(P, self._C, out=self._q)
+        self.couplings.apply(self._q, self._blocks, self._use, self._t)
+        O += self._t @ self._C.T
+        self.applications += 1
+        return out
+
+    def add_point_loads(self, u: np.ndarray, idx: np.ndarray, vals: np.ndarray,
+                        exact: bool = False) -> bool:
+        """u += K[:, idx] vals: exactly by direct sums up to ``max_direct`` loads (one
+        footprint), else by Ka (always done: returns True). ``exact``: as the reference
+        operator does it (direct sums where cheaper than an FFT pair, else False: the caller
+        makes the full product)."""
+        if exact or len(idx) <= self.max_direct:
+            return self.exact.add_point_loads(u, idx, vals)
+        v = self._v
+        v[:] = 0.0
+        v[idx] = vals
+        u += self.apply_increment(v, np.empty_like(u))
+        return True

@@ -1,0 +1,198 @@
+"""``solver.far_field: multipole`` (the far field by pillar moments between exact products)
+against the reference ``exact``.
+
+The operator is checked against the dense influence matrix (each pillar's own block exact, the
+couplings to other pillars within the multipole truncation, symmetric, ``apply`` exact); the path
+is compared with the reference over seeds, k~ and sigma~ (hypothesis) by the measures of
+tests/test_confirm.py (F~_A within 0.2 %, 1e-4 absolute where F~_A < 0.05; curves within 0.5 % of
+the peak force); each field is refreshed on its own count.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from fibril_hpc import Scene, simulate
+from fibril_hpc.errors import ConfigError
+from fibril_hpc.inputs.options import SolverOptions
+from fibril_hpc.model import build_scene_model
+from fibril_hpc.path.loading import PathDriver
+from fibril_hpc.path.records import CurveRecorder
+from fibril_hpc.solve.farfield import MultipoleField
+from benchmarks.common import graph_gap
+
+
+def field(n_side=6, refresh=16, **kw):
+    model = build_scene_model(Scene(n_side=n_side, elements_per_diameter=6, **kw))
+    return model, MultipoleField(model.operator, refresh)
+
+
+def dense_increment(op, n):
+    A = np.zeros((n, n))
+    e = np.zeros(n)
+    for j in range(n):
+        e[:] = 0.0
+        e[j] = 1.0
+        op.apply_increment(e, A[:, j])
+    return A
+
+
+def test_own_blocks_exact_far_couplings_within_the_truncation():
+    model, op = field()
+    g = model.geometry
+    n, m = g.n_active, op.footprint
+    K = model.operator.dense()
+    A = dense_increment(op, n)
+    assert np.abs(A - A.T).max() <= 1e-12 * np.abs(A).max()           # symmetric
+    lab = np.repeat(np.arange(g.n_groups), m)
+    cx = (g.ix * g.h).reshape(-1, m).mean(axis=1)
+    cy = (g.iy * g.h).reshape(-1, m).mean(axis=1)
+    dist = np.hypot(cx[lab][:, None] - cx[lab][None, :], cy[lab][:, None] - cy[lab][None, :])
+    pitch = dist[dist > 0].min()
+    own = dist == 0.0
+    assert np.abs(A - K)[own].max() <= 1e-12 * np.abs(K).max()        # own blocks exact
+    rels = []
+    for lo, hi, worst in ((0.5, 1.01, 0.1), (1.01, 2.01, 0.08), (2.01, 99.0, 0.025)):
+        sel = (dist > lo * pitch) & (dist <= hi * pitch)
+        rels.append(np.abs(A - K)[sel].max() / np.abs(K[sel]).max())
+        # the dipole truncation, about (footprint radius / distance)^2 (measured 6 %, 6 %, 1.8 %)
+        assert 1e-3 < rels[-1] <= worst, (lo, hi, rels[-1])
+    assert rels[2] < rels[0] / 2
+
+
+def test_apply_is_the_exact_product_and_point_loads_switch_to_the_moments():
+    model, op = field(n_side=5)
+    n = model.geometry.n_active
+    rng = np.random.default_rng(1)
+    p = rng.standard_normal(n)
+    exact = model.operator.apply(p, np.empty(n))
+    pairs = op.n_pairs
+    assert np.array_equal(op.apply(p, np.empty(n)), exact) and op.n_pairs == pairs + 1
+    K = model.operator.dense()
+    u = np.zeros(n)
+    few = np.arange(op.max_direct)                      # exact direct sums
+    assert op.add_point_loads(u, few, p[few])
+    assert np.allclose(u, K[:, few] @ p[few], rtol=0, atol=1e-13 * np.abs(u).max())
+    many = np.arange(n)                                 # the moments
+    u[:] = 0.0
+    assert op.add_point_loads(u, many, p)
+    assert np.allclose(u, op.apply_increment(p, np.empty(n)))
+    assert not np.allclose(u, exact, rtol=1e-6)
+
+
+def test_a_brush_off_any_lattice_is_refused_in_one_line(monkeypatch):
+    class Scattered:      # four pillars of one footprint at offsets with no common step
+        n_groups, n_active, h = 4, 8, 0.1
+        starts = np.arange(0, 9, 2)
+        ix = np.repeat(np.array([0, 7, 30, 61]), 2) + np.tile([0, 1], 4)
+        iy = np.repeat(np.array([0, 11, 53, 3]), 2)
+
+    class Exact:
+        geometry, m, c0, max_direct, exact_refresh_every = Scattered(), 128, 1.0, 8, 64
+
+    with pytest.raises(ValueError, match="regular lattice"):
+        MultipoleField(Exact(), 4)
+    monkeypatch.setattr("fibril_hpc.solve.farfield.PillarLattice.of", lambda g, m: None)
+    with pytest.raises(ConfigError, match=r"^solver.far_field: .*regular lattice"):
+        build_scene_model(Scene(n_side=3, solver={"far_field": "multipole"}))
+
+
+def test_with_local_confirmation_or_out_of_range_is_refused_in_one_line():
+    with pytest.raises(ConfigError, match="solver.far_field"):
+        SolverOptions(far_field="multipole", confirm="local")
+    for bad in ({"far_field": "fmm"}, {"far_refresh": 0}):
+        with pytest.raises(ConfigError, match=f"solver.{next(iter(bad))}"):
+            SolverOptions(**bad)
+    ref = Scene(n_side=3).to_dict()["solver"]
+    assert "far_field" not in ref and "far_refresh" not in ref       # old job keys unchanged
+    new = Scene(n_side=3, solver={"far_field": "multipole"}).to_dict()["solver"]
+    assert new["far_field"] == "multipole" and "far_refresh" not in new
+
+
+def run(far, **kw):
+    solver = {"fft_threads": 1, **({"far_field": "multipole"} if far else {})}
+    r = simulate(Scene(**kw, solver=solver))
+    assert r.status == "ok", r.message
+    return r
+
+
+def assert_close(ref, new, rel=2e-3):
+    """F~_A within ``rel`` (1e-4 absolute where F~_A < 0.05) and the loading curves within
+    0.5 % of the peak force. The unloading curves are not compared: after the pull-off the
+    held states can reorder the detachments of soft brushes (measured up to 1.8 % of the peak
+    force in graph distance, benchmarks/NOTES.md), which F~_A does not see."""
+    for a, b in zip(ref.results, new.results, strict=True):
+        tol = 1e-4 if abs(a.F_A) < 0.05 else rel * abs(a.F_A)
+        assert abs(b.F_A - a.F_A) <= tol, (a.F_A, b.F_A)
+        peak = max(np.abs(a.loading.F_tilde).max(), np.abs(b.loading.F_tilde).max())
+        span = max(np.ptp(a.loading.d_tilde), np.ptp(b.loading.d_tilde), 1e-12)
+        gap = max(graph_gap(b.loading.d_tilde, b.loading.F_tilde, a.loading.d_tilde,
+                            a.loading.F_tilde, span, peak),
+                  graph_gap(a.loading.d_tilde, a.loading.F_tilde, b.loading.d_tilde,
+                            b.loading.F_tilde, span, peak))
+        assert gap <= 5e-3, gap
+
+
+@settings(max_examples=6, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 10_000), k_tilde=st.sampled_from([10.0, 1.0, 0.01, 0.001]),
+       sigma_tilde=st.sampled_from([0.01, 0.1, 0.5, 2.1]), n_side=st.sampled_from([5, 6]))
+def test_multipole_path_matches_the_reference(seed, k_tilde, sigma_tilde, n_side):
+    kw = dict(n_side=n_side, elements_per_diameter=5, k_tilde=k_tilde, sigma_tilde=sigma_tilde,
+              seed=seed, F_P=(4.0,))
+    ref, new = run(False, **kw), run(True, **kw)
+    assert_close(ref, new)
+    assert new.stats["far_field_products"] > 0 and "far_field_products" not in ref.stats
+
+
+@pytest.mark.parametrize("case", [
+    dict(n_side=8, k_tilde=0.01, sigma_tilde=0.5, seed=0),
+    dict(n_side=6, k_tilde=0.001, sigma_tilde=2.1, seed=2, F_P=(1.0, 4.0)),
+    dict(n_side=6, k_tilde=math.inf, sigma_tilde=0.1, seed=1),
+    dict(n_side=6, k_tilde=0.1, sigma_tilde=0.3, seed=3, k_law="lognormal", k_spread=0.5),
+    dict(n_side=6, k_tilde=1.0, sigma_tilde=0.3, seed=4, lattice="hexagonal"),
+], ids=["default-like", "soft-rough-two-preloads", "rigid", "per-pillar", "hexagonal"])
+def test_fixed_scenes_match_and_save_pairs(case):
+    kw = {"elements_per_diameter": 6, "F_P": (4.0,), **case}
+    ref, new = run(False, **kw), run(True, **kw)
+    assert_close(ref, new)
+    assert new.stats["fft_pairs"] < ref.stats["fft_pairs"]
+
+
+def test_the_direction_is_solved_exactly():
+    """A soft brush whose F~_A moved by -0.92 % when its directions were solved with the
+    moments too (and by 2e-7 with exact directions): the direction's solve must stay exact."""
+    kw = dict(n_side=5, elements_per_diameter=5, k_tilde=0.001, sigma_tilde=0.5, seed=8612,
+              F_P=(4.0,))
+    assert_close(run(False, **kw), run(True, **kw), rel=1e-5)
+
+
+def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
+    """The state's u is made exact (one full product) at least every ``far_refresh`` + 1 of
+    its solves, however the direction's exact solves fall between them."""
+    model, _ = field(n_side=6, k_tilde=0.01, sigma_tilde=0.5, F_P=(4.0,),
+                     solver={"far_field": "multipole", "far_refresh": 3})
+    op = model.operator
+    assert isinstance(op, MultipoleField) and op.refresh_every == 3
+    driver = PathDriver(model)
+    hits = {"u": 0, "u1": 0, "other": 0}
+    states = [0]
+    exact, solve = op.exact.apply, driver._solve
+
+    def spy(p, out):
+        hits["u" if out is driver.u else "u1" if out is driver.u1 else "other"] += 1
+        return exact(p, out)
+
+    def counted(b, x, u, x_ref, tol=None, exact=False):
+        states[0] += u is driver.u
+        return solve(b, x, u, x_ref, tol, exact)
+
+    monkeypatch.setattr(op, "apply", spy)
+    monkeypatch.setattr(driver, "_solve", counted)
+    snaps = driver.load([4.0 * model.scaling.F_c], "F", CurveRecorder())
+    driver.unload(snaps[0])
+    assert hits["other"] > 0             # the direction's exact CG iterations
+    assert states[0] > 40 and hits["u"] >= states[0] // 4 - 1
