@@ -25,7 +25,9 @@ Cases (every run single-threaded, ``fft_threads = 1``, so that times are compara
 Each preset is also run with the opt-in local confirmation (``solver.confirm: local``,
 docs/model.md §6; rows of kind ``local``, labelled ``<preset> + confirm: local``): a point of its
 own on the error-against-time plot, measured as the presets are, and compared with its preset's
-run (change of F~_A, ratios of CPU time and FFT pairs) in ``accuracy.md``.
+run (change of F~_A, ratios of CPU time and FFT pairs) in ``accuracy.md``; and with the opt-in far
+field by pillar moments (``solver.far_field: multipole``; kind ``multipole``), which is not
+certified: its point shows what its error costs and saves.
 
 Every row also carries the "knob error": the difference from the tight-knob run at the same
 resolution, which separates the solver-knob error from the discretisation error.

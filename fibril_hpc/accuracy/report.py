@@ -29,10 +29,14 @@ def _ratio(a, b) -> str:
     return f"{a / b:.2f}" if math.isfinite(a) and math.isfinite(b) and b > 0 else ""
 
 
+#: what a preset row of each kind adds to the preset's name (``default + confirm: local``)
+SUFFIX = {"local": " + confirm: local", "multipole": " + far_field: multipole"}
+
+
 def label(r) -> str:
     """How a row is named in the tables and the plot: a preset, or a preset with local
-    confirmation (``default + confirm: local``)."""
-    return f"{r['value']} + confirm: local" if r["kind"] == "local" else str(r["value"])
+    confirmation or the far field by moments (``default + confirm: local``)."""
+    return str(r["value"]) + SUFFIX.get(r["kind"], "")
 
 
 def _unc(x) -> str:
@@ -87,7 +91,8 @@ def markdown(rows: list[dict], refs: dict, quick: bool, versions: dict) -> str:
                "kept locally |")
     out.append("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | "
                "--- | --- |")
-    order = {"resolution": 0, "knob": 1, "preset": 2, "local": 3, "tight": 4, "reference": 5}
+    order = {"resolution": 0, "knob": 1, "preset": 2, "local": 3, "multipole": 4, "tight": 5,
+             "reference": 6}
     for r in sorted(rows, key=lambda r: (r["case"], order.get(r["kind"], 9), r["knob"], r["epd"])):
         if r["status"] != "ok":
             out.append(f"| {r['case']} | {r['kind']} | {r['knob']} | {r['value']} | "
@@ -109,14 +114,14 @@ def _row(rows, case, kind, name):
 
 def preset_summary(rows: list[dict]) -> list[str]:
     """Markdown lines: each preset's measured error and time per case, and each preset with
-    ``confirm: local`` (its own point, below the preset)."""
+    ``confirm: local`` and with ``far_field: multipole`` (its own points, below the preset)."""
     cases = sorted({r["case"] for r in rows})
-    out = ["Presets, and presets with `solver.confirm: local` (error of F~_A, of F~_P or d~_max, "
-           "CPU seconds per scene, FFT pairs):", "",
+    out = ["Presets, and presets with `solver.confirm: local` or `solver.far_field: multipole` "
+           "(error of F~_A, of F~_P or d~_max, CPU seconds per scene, FFT pairs):", "",
            "| preset | elements/diam. | " + " | ".join(cases) + " |",
            "| --- | --- | " + " | ".join("---" for _ in cases) + " |"]
     for name, p in PRESETS.items():
-        for kind in ("preset", "local"):
+        for kind in ("preset", "local", "multipole"):
             cells = []
             for c in cases:
                 r = _row(rows, c, kind, name)
@@ -124,34 +129,36 @@ def preset_summary(rows: list[dict]) -> list[str]:
                              f"{_pct(r['err_F_A'])}, {_pct(_preload_err(r))}, "
                              f"{r['cpu_s']:.3g} s" + (f", {_num(r['fft_pairs'])}" if
                                                      math.isfinite(r["fft_pairs"]) else ""))
-            if kind == "local" and all(x == "not measured" for x in cells):
-                continue                    # an older study, run before the local points
+            if kind != "preset" and all(x == "not measured" for x in cells):
+                continue                    # an older study, run before these points
             out.append(f"| {label({'kind': kind, 'value': name})} | "
                        f"{p['elements_per_diameter']} | " + " | ".join(cells) + " |")
     return out
 
 
 def local_summary(rows: list[dict]) -> list[str]:
-    """Markdown lines: each preset with ``confirm: local`` against the same preset's run
-    (``confirm: global``, the reference path): the change of F~_A and of the preload side, and
-    the ratios of CPU time and FFT pairs. Empty when no such pair of runs is in ``rows``."""
+    """Markdown lines: each preset with ``confirm: local`` and with ``far_field: multipole``
+    against the same preset's run (the reference path): the change of F~_A and of the preload
+    side, and the ratios of CPU time and FFT pairs. Empty when no such pair of runs is in
+    ``rows``."""
     out = []
     for case in sorted({r["case"] for r in rows}):
         for name in PRESETS:
-            g, loc = _row(rows, case, "preset", name), _row(rows, case, "local", name)
-            if g is None or loc is None:
-                continue
-            pre = "F_P" if "d_tilde" in CASES.get(case, {}).get("scene", {}) else "d_max"
-            d = [loc[q] / g[q] - 1 if g[q] else math.nan for q in ("F_A", pre)]
-            out.append(f"| {case} | {name} | {d[0]:+.1e} | {d[1]:+.1e} | "
-                       f"{_ratio(loc['cpu_s'], g['cpu_s'])} | "
-                       f"{_ratio(loc['fft_pairs'], g['fft_pairs'])} | "
-                       f"{_num(loc['confirmed_local'])} |")
+            for kind in ("local", "multipole"):
+                g, new = _row(rows, case, "preset", name), _row(rows, case, kind, name)
+                if g is None or new is None:
+                    continue
+                pre = "F_P" if "d_tilde" in CASES.get(case, {}).get("scene", {}) else "d_max"
+                d = [new[q] / g[q] - 1 if g[q] else math.nan for q in ("F_A", pre)]
+                out.append(f"| {case} | {label({'kind': kind, 'value': name})} | {d[0]:+.1e} | "
+                           f"{d[1]:+.1e} | {_ratio(new['cpu_s'], g['cpu_s'])} | "
+                           f"{_ratio(new['fft_pairs'], g['fft_pairs'])} | "
+                           f"{_num(new['confirmed_local']) if kind == 'local' else ''} |")
     if not out:
         return []
-    return ["`confirm: local` against the same preset's run (`confirm: global`, the reference "
-            "path): relative change of F~_A and of F~_P (d~_max), ratios of CPU time and FFT "
-            "pairs (< 1: a saving), and the relaxations kept without a global solve:", "",
+    return ["`confirm: local` and `far_field: multipole` against the same preset's run (the "
+            "reference path): relative change of F~_A and of F~_P (d~_max), ratios of CPU time "
+            "and FFT pairs (< 1: a saving), and the relaxations kept without a global solve:", "",
             "| case | preset | change of F~_A | change of F~_P (d~_max) | CPU ratio | "
             "FFT-pair ratio | relaxations kept locally |",
             "| --- | --- | --- | --- | --- | --- | --- |", *out]
@@ -178,9 +185,11 @@ def plot(rows: list[dict], path: str) -> None:
     cases = sorted({r["case"] for r in rows})
     fig, axes = plt.subplots(1, len(cases), figsize=(5.2 * len(cases), 4.4), squeeze=False,
                              constrained_layout=True)
-    marks = {"resolution": "o", "knob": "s", "preset": "*", "local": "P", "tight": "^",
-             "reference": "^"}
-    colours = {"resolution": "C0", "knob": "C1", "preset": "C3", "local": "C4"}
+    marks = {"resolution": "o", "knob": "s", "preset": "*", "local": "P", "multipole": "X",
+             "tight": "^", "reference": "^"}
+    colours = {"resolution": "C0", "knob": "C1", "preset": "C3", "local": "C4",
+               "multipole": "C5"}
+    tags = {"local": "+local", "multipole": "+multipole"}
     for ax, case in zip(axes[0], cases):
         pts = []
         for r in rows:
@@ -189,17 +198,19 @@ def plot(rows: list[dict], path: str) -> None:
             err = max(abs(r["err_F_A"]), 1e-6)
             pts.append((r["cpu_s"], err, r))
             ax.loglog(r["cpu_s"], err, marks.get(r["kind"], "x"),
-                      ms={"preset": 13, "local": 10}.get(r["kind"], 6),
+                      ms={"preset": 13, "local": 10, "multipole": 10}.get(r["kind"], 6),
                       color=colours.get(r["kind"], "C2"), alpha=0.8)
-            if r["kind"] in ("preset", "local", "resolution"):
-                # a local point sits at about its preset's error: its label goes below; a
-                # resolution's to the left (the preset at that resolution takes the right)
-                ax.annotate(f"{r['value']}+local" if r["kind"] == "local" else
+            if r["kind"] in ("preset", "local", "multipole", "resolution"):
+                # a local or multipole point sits near its preset's error: its label goes
+                # below or above; a resolution's to the left (the preset takes the right)
+                ax.annotate(f"{r['value']}{tags[r['kind']]}" if r["kind"] in tags else
                             r["value"] if r["kind"] == "preset" else f"{r['epd']:.1f}",
                             (r["cpu_s"], err), fontsize=7,
-                            xytext={"local": (3, -10), "preset": (3, 3)}.get(r["kind"], (-3, 3)),
+                            xytext={"local": (3, -10), "multipole": (3, 10),
+                                    "preset": (3, 3)}.get(r["kind"], (-3, 3)),
                             ha="right" if r["kind"] == "resolution" else "left",
-                            textcoords="offset points", color="C4" if r["kind"] == "local" else "k")
+                            textcoords="offset points", color=colours.get(r["kind"], "k")
+                            if r["kind"] in tags else "k")
         front = pareto(pts)
         if front:
             ax.loglog([p[0] for p in front], [p[1] for p in front], "k-", lw=0.8,
@@ -217,6 +228,7 @@ def plot(rows: list[dict], path: str) -> None:
     handles = [plt.Line2D([], [], ls="", marker=m, color=c, label=l) for l, m, c in
                (("elements per diameter", "o", "C0"), ("one knob changed", "s", "C1"),
                 ("preset", "*", "C3"), ("preset + confirm: local", "P", "C4"),
+                ("preset + far_field: multipole", "X", "C5"),
                 ("tight knobs", "^", "C2"))]
     handles.append(plt.Line2D([], [], color="k", lw=0.8, label="Pareto front"))
     axes[0][-1].legend(handles=handles, fontsize=7, loc="best")

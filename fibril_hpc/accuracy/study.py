@@ -34,6 +34,12 @@ KNOB_VALUES = {
 #: preset's. It keeps a state without its global solve where a certified bound puts its force
 #: within ``confirm_tol`` of the exact one, so it moves time, not (to that bound) the error.
 LOCAL = {"confirm": "local"}
+#: The opt-in far field by pillar moments (``solver.far_field: multipole``, docs/model.md §6):
+#: each preset is also run with it (kind ``multipole``). Not certified: its error is what the
+#: study measures, beside its time.
+MULTIPOLE = {"far_field": "multipole"}
+#: the solver options each kind of preset row adds to its preset's
+PRESET_KINDS = {"preset": {}, "local": LOCAL, "multipole": MULTIPOLE}
 
 CASES = {
     "pillar": {"scene": dict(n_side=1, k_tilde=math.inf, sigma_tilde=0.0, d_tilde=1.0),
@@ -98,6 +104,8 @@ def plan(case: str, quick: bool) -> list[tuple]:
             continue        # hours at 16 elements per diameter: not measured
         runs.append(("preset", "preset", name, e, dict(p["solver"])))
         runs.append(("local", "confirm: local", name, e, {**p["solver"], **LOCAL}))
+        runs.append(("multipole", "far_field: multipole", name, e,
+                     {**p["solver"], **MULTIPOLE}))
     for e in spec.get("ref_epd", []):
         runs.append(("reference", "tight", "tight", e, dict(TIGHT)))
         if e != spec["knob_epd"]:
@@ -151,10 +159,8 @@ def _effective(epd, knobs) -> tuple:
 
 
 def _knobs_of(row) -> dict:
-    if row["kind"] == "preset":
-        return dict(PRESETS[row["value"]]["solver"])
-    if row["kind"] == "local":
-        return {**PRESETS[row["value"]]["solver"], **LOCAL}
+    if row["kind"] in PRESET_KINDS:
+        return {**PRESETS[row["value"]]["solver"], **PRESET_KINDS[row["kind"]]}
     if row["knob"] == "tight":
         return dict(TIGHT)
     if row["kind"] == "knob":

@@ -95,9 +95,7 @@ class PathDriver(SnapshotMixin):
         self.tol_g = 1e3 * opts.cg_tol * d_c
         self.tol_dir = opts.direction_tolerance
         self.worst_only = opts.detach_policy == "worst"
-        # under far_field: multipole a global solve costs no FFT of the element grid, and the
-        # local cascade (which exists to save global solves) costs more than it saves
-        # (benchmarks/NOTES.md, "The far field as pillar moments")
+        # not under far_field: multipole, whose global solves cost no element-grid FFT
         self.local = (LocalCascade(model) if opts.cascade == "local" and opts.far_field == "exact"
                       else None)
         #: ``confirm: local``: the force bound that lets a local fixed point end a relaxation
@@ -245,22 +243,13 @@ class PathDriver(SnapshotMixin):
         diff = (x != x_ref) | (self.att != att_ref)
         return np.unique(self.group_of[diff])
 
-    def _counter(self, x_ref) -> str:
-        """The attribute counting the solves since u was last a full product: one for both
-        fields where increments are exact (the count only guards against rounding drift), one
-        per field where they are not (``solver.far_field: multipole``: each field is refreshed
-        on its own count, and a shared one could keep falling on the same field)."""
-        if self.model.operator.exact_increments or x_ref is self.p_ref:
-            return "_since_full"
-        return "_since_full1"
-
     def _solve(self, b, x, u, x_ref, tol=None, exact=False) -> int:
-        """Solve on the current set, keeping u = K x valid without a full product where
-        possible: a full product (one FFT pair) after the operator's ``refresh_every``
-        incrementally kept solves of the field. ``exact``: iterate with the exact product and
-        keep u exact (under ``far_field: multipole``, the direction's solve)."""
+        """Solve on the current set, keeping u = K x valid without a full product (one FFT
+        pair) until the operator's ``refresh_every`` incrementally kept solves of the field.
+        ``exact``: iterate with the exact product, u kept exact (under ``far_field:
+        multipole`` the direction's solve, whose field then counts on its own)."""
         op = self.model.operator
-        name = self._counter(x_ref)
+        name = "_since_full" if op.exact_increments or x_ref is self.p_ref else "_since_full1"
         since = getattr(self, name)
         valid = False
         if since < (op.exact_refresh_every if exact else op.refresh_every):
@@ -288,10 +277,7 @@ class PathDriver(SnapshotMixin):
                     self.local.solve(groups, self._ones, self.p1, self.p1_ref, self.u1, self.att)
                     done = self.certificate is not None and self._direction_locally()
             if not done:
-                # exact even under far_field: multipole: the direction carries the force along
-                # a segment and places the next event, and a direction solved with the moments
-                # moved F~_A by up to 0.9 % on small brushes (benchmarks/NOTES.md, "The far
-                # field as pillar moments"); the states' held error did not
+                # exact under far_field: multipole too (solve/farfield.py says why)
                 self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir, exact=True)
         else:
             self.u1[:] = 0.0

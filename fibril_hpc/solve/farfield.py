@@ -75,7 +75,8 @@ class MultipoleField:
         m0 = uniform_footprint(g) or 1
         #: exact direct sums up to one footprint's elements (each costs about a product of Ka)
         self.max_direct = min(exact.max_direct, m0)
-        self.refresh_every = int(refresh_every)
+        # one pillar: Ka is K, and the field needs no refresh beyond the drift guard
+        self.refresh_every = int(refresh_every) if g.n_groups > 1 else exact.refresh_every
         #: exact solves (the direction's) only guard their exactly kept field against drift
         self.exact_refresh_every = exact.exact_refresh_every
         self.footprint = m
