@@ -81,6 +81,22 @@ def test_apply_is_the_exact_product_and_point_loads_switch_to_the_moments():
     assert op.add_point_loads(u, many, p)
     assert np.allclose(u, op.apply_increment(p, np.empty(n)))
     assert not np.allclose(u, exact, rtol=1e-6)
+    # a second change adds only its own loads (nothing of the first is left over)
+    half = np.arange(op.max_direct + 1, n)
+    u[:] = 0.0
+    assert op.add_point_loads(u, half, p[half])
+    only = np.zeros(n)
+    only[half] = p[half]
+    assert np.allclose(u, op.apply_increment(only, np.empty(n)), rtol=0,
+                       atol=1e-13 * np.abs(u).max())
+    # an exact solve's increments (the direction's): as the reference operator makes them,
+    # exact direct sums or False (the caller then makes the full product), never the moments
+    for idx in (few, many, np.arange(op.max_direct + 1)):
+        u[:] = 0.0
+        if op.add_point_loads(u, idx, p[idx], exact=True):
+            assert np.allclose(u, K[:, idx] @ p[idx], rtol=0, atol=1e-12 * np.abs(u).max())
+        else:
+            assert not u.any() and len(idx) > model.operator.max_direct
 
 
 def test_a_brush_off_any_lattice_is_refused_in_one_line(monkeypatch):
@@ -171,15 +187,26 @@ def test_the_direction_is_solved_exactly():
 
 
 def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
-    """The state's u is made exact (one full product) at least every ``far_refresh`` + 1 of
-    its solves, however the direction's exact solves fall between them."""
+    """Each field is made exact (one full product) on its own count: the state's u at least
+    every ``far_refresh`` + 1 of its solves and the direction's u1 every ``exact_refresh_every``
+    + 1 of its, however the two kinds of solve alternate."""
     model, _ = field(n_side=6, k_tilde=0.01, sigma_tilde=0.5, F_P=(4.0,),
                      solver={"far_field": "multipole", "far_refresh": 3})
     op = model.operator
     assert isinstance(op, MultipoleField) and op.refresh_every == 3
     driver = PathDriver(model)
+    assert driver.local is None             # no local cascade under the moments (model.md §6)
+    # the counts travel with a lookahead's save and restore
+    driver._since_full, driver._since_full1 = 2, 5
+    saved = driver._save()
+    driver._since_full = driver._since_full1 = 0
+    driver._load(saved)
+    assert (driver._since_full, driver._since_full1) == (2, 5)
+    driver._reset(0.0)
+    op.exact_refresh_every = 2      # the direction's drift guard, small enough to be seen here
     hits = {"u": 0, "u1": 0, "other": 0}
     states = [0]
+    directions = [0]
     exact, solve = op.exact.apply, driver._solve
 
     def spy(p, out):
@@ -188,6 +215,7 @@ def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
 
     def counted(b, x, u, x_ref, tol=None, exact=False):
         states[0] += u is driver.u
+        directions[0] += u is driver.u1
         return solve(b, x, u, x_ref, tol, exact)
 
     monkeypatch.setattr(op, "apply", spy)
@@ -196,3 +224,4 @@ def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
     driver.unload(snaps[0])
     assert hits["other"] > 0             # the direction's exact CG iterations
     assert states[0] > 40 and hits["u"] >= states[0] // 4 - 1
+    assert directions[0] > 20 and hits["u1"] >= directions[0] // 3 - 1

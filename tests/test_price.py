@@ -87,6 +87,35 @@ def test_the_confirm_local_factors_are_the_corner_grids_ratios():
         assert estimate.CONFIRM_LOCAL_CPU_PER_PAIR == pytest.approx(cpu / ratio, abs=0.01), preset
 
 
+def test_far_field_multipole_is_priced_by_the_corner_grids_ratios():
+    """Its pairs scaled by the summed pair ratio of the corner grid run with it, its CPU per
+    pair by the summed CPU ratio over that; `accurate` (unmeasured) as the reference."""
+    import csv
+    import os
+
+    path = os.path.join(os.path.dirname(__file__), "..", "benchmarks", "results",
+                        "confirm-grid-multipole", "confirm_grid-exact-directions.csv")
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = [r for r in csv.DictReader(fh) if r["status"] == "ok/ok"]
+    for preset in ("fast", "default", "accurate"):
+        ref = Scene(n_side=18, preset=preset, F_P=[0.1, 4])
+        far = Scene(n_side=18, preset=preset, F_P=[0.1, 4], solver={"far_field": "multipole"})
+        factor = estimate.MULTIPOLE_PAIRS.get(preset, 1.0)
+        assert estimate.task_pairs(far, 45) == pytest.approx(factor * estimate.task_pairs(ref, 45))
+        cpu = factor * (estimate.MULTIPOLE_CPU_PER_PAIR if factor < 1 else 1.0)
+        assert estimate.task_seconds(far, 2e-3, 45) == pytest.approx(
+            cpu * estimate.task_seconds(ref, 2e-3, 45))
+        mine = [r for r in rows if r["preset"] == preset]
+        if preset == "accurate":
+            assert not mine and factor == 1.0
+            continue
+        assert len(mine) == 32
+        ratio = sum(int(r["pairs_local"]) for r in mine) / sum(int(r["pairs_ref"]) for r in mine)
+        assert factor == pytest.approx(ratio, abs=0.006), preset
+        cpu = sum(float(r["cpu_local"]) for r in mine) / sum(float(r["cpu_ref"]) for r in mine)
+        assert estimate.MULTIPOLE_CPU_PER_PAIR == pytest.approx(cpu / ratio, abs=0.03), preset
+
+
 @pytest.mark.parametrize("preset", ["fast", "default"])
 def test_the_dry_run_prices_a_confirm_local_grid_below_the_reference(tmp_path, monkeypatch,
                                                                      capsys, preset):

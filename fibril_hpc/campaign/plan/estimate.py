@@ -26,7 +26,8 @@ previous fit of 0.55: 0.31), its four corners at `fast` (0.82x of 0.25) and at `
 (benchmarks/NOTES.md §26). A scene with ``solver: {confirm: local}`` (the opt-in local
 confirmation, docs/model.md §6) skips global solves: its pairs are scaled by
 ``CONFIRM_LOCAL_PAIRS[preset]``, the measured ratio to the reference path, and its CPU per pair
-by ``CONFIRM_LOCAL_CPU_PER_PAIR`` (the confirmations' own work). Expect up to ~2x
+by ``CONFIRM_LOCAL_CPU_PER_PAIR`` (the confirmations' own work); one with ``far_field:
+multipole`` likewise by ``MULTIPOLE_PAIRS`` and ``MULTIPOLE_CPU_PER_PAIR``. Expect up to ~2x
 either way on single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones
 dearer), less on a whole grid. When the output file already holds finished jobs, their measured
 mean wall time per task is used instead.
@@ -69,6 +70,15 @@ CONFIRM_LOCAL_PAIRS = {"fast": 0.84, "default": 0.75}
 #: 0.88 x), 1.10 and 0.80 x with 1.12 (the reference grids 1.14 and 0.83 x; one run each on a
 #: shared machine; benchmarks/NOTES.md, issue 35 item 5).
 CONFIRM_LOCAL_CPU_PER_PAIR = 1.14
+#: FFT pairs of a ``far_field: multipole`` path over the reference path's, per preset, and its
+#: CPU per pair over the reference's (the moment products and the lattice level's inner solves):
+#: the summed ratios of the same corner grid run with it (two calls on a lent 16-core machine;
+#: benchmarks/results/confirm-grid-multipole/confirm_grid-exact-directions.csv): pairs 0.544
+#: (`default`) and 0.508 (`fast`), CPU 0.603 and 0.587, so 1.11 and 1.16 x the pair ratio
+#: (benchmarks/NOTES.md, "The far field as pillar moments"). `accurate`: not measured, priced as
+#: the reference path.
+MULTIPOLE_PAIRS = {"fast": 0.51, "default": 0.54}
+MULTIPOLE_CPU_PER_PAIR = 1.13
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
 #: with the pillar count N_p away from it, per preset: ~ N_p^SIZE_GROWTH[p][0] below,
 #: ~ N_p^SIZE_GROWTH[p][1] above. `default` (and `accurate`, not measured apart): the growth
@@ -150,6 +160,8 @@ def task_pairs(scene, elements_per_pillar: int) -> float:
     per = PRESET_FACTOR.get(scene.preset, 1.0) * (PAIRS_LOADING + PAIRS_UNLOADING * sum(weights))
     if scene.solver.confirm == "local":
         per *= CONFIRM_LOCAL_PAIRS.get(scene.preset, 1.0)
+    if scene.solver.far_field == "multipole":
+        per *= MULTIPOLE_PAIRS.get(scene.preset, 1.0)
     n_p = scene.n_side ** 2
     below, above = SIZE_GROWTH.get(scene.preset, SIZE_GROWTH["default"])
     grow = below if n_p < SIZE_REF else above
@@ -161,6 +173,8 @@ def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
     per_pair = pair_s * OVERHEAD.get(scene.preset, OVERHEAD["default"]) + PAIR_FIXED_S
     if scene.solver.confirm == "local" and scene.preset in CONFIRM_LOCAL_PAIRS:   # measured
         per_pair *= CONFIRM_LOCAL_CPU_PER_PAIR
+    if scene.solver.far_field == "multipole" and scene.preset in MULTIPOLE_PAIRS:
+        per_pair *= MULTIPOLE_CPU_PER_PAIR
     return task_pairs(scene, elements_per_pillar) * per_pair
 
 
