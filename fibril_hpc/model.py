@@ -31,7 +31,7 @@ class Model:
     """Everything that is built once per scene: operator (plans, buffers), solver, physics."""
 
     geometry: Geometry
-    operator: HalfSpace
+    operator: HalfSpace | MultipoleField     # the latter under solver.far_field: multipole
     solver: ConstrainedCG
     k: float | np.ndarray    # spring stiffness (internal units), inf for rigid; one per pillar
     #                          only when the scene asks for per-pillar stiffnesses

@@ -66,15 +66,13 @@ class MultipoleField:
         m = uniform_footprint(g)
         lattice = None if m is None else PillarLattice.of(g, m)
         if lattice is None:
-            raise ValueError("solver.far_field: multipole needs pillars of one footprint on a "
-                             "regular lattice")
+            raise ValueError("multipole needs pillars of one footprint on a regular lattice")
         self.exact = exact
         self.geometry = g
         self.m = exact.m
         self.c0 = exact.c0
-        m0 = uniform_footprint(g) or 1
         #: exact direct sums up to one footprint's elements (each costs about a product of Ka)
-        self.max_direct = min(exact.max_direct, m0)
+        self.max_direct = min(exact.max_direct, m)
         # one pillar: Ka is K, and the field needs no refresh beyond the drift guard
         self.refresh_every = int(refresh_every) if g.n_groups > 1 else exact.refresh_every
         #: exact solves (the direction's) only guard their exactly kept field against drift
