@@ -225,3 +225,38 @@ def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
     assert hits["other"] > 0             # the direction's exact CG iterations
     assert states[0] > 40 and hits["u"] >= states[0] // 4 - 1
     assert directions[0] > 20 and hits["u1"] >= directions[0] // 3 - 1
+
+
+def test_a_campaign_under_the_moments_keeps_the_option_and_its_report_says_so(tmp_path):
+    """The runner hands the option to the solver; the records keep it in their scene (job keys
+    differ from the reference's); the report's "Before quoting" names it as uncertified."""
+    import yaml
+    from campaign_helpers import write_grid
+
+    from fibril_hpc.campaign import load_spec
+    from fibril_hpc.campaign.analysis.data import load_campaign
+    from fibril_hpc.campaign.analysis.headline import headline
+    from fibril_hpc.campaign.analysis.report_data import build
+    from fibril_hpc.campaign.run.runner import run_serial
+    from fibril_hpc.campaign.storage.store import read_records
+
+    grid = {"output": "far.h5",
+            "scene": {"n_side": 4, "elements_per_diameter": 5,
+                      "solver": {"fft_threads": 1, "far_field": "multipole"}},
+            "k_tilde": [0.01], "sigma_tilde": [0.1, 0.5], "F_P": [0.3, 1.0], "seeds": 2}
+    ref = dict(grid, output="ref.h5",
+               scene=dict(grid["scene"], solver={"fft_threads": 1}))
+    pages = {}
+    for name, g in (("far", grid), ("ref", ref)):
+        spec = load_spec(write_grid(tmp_path, g, name=f"{name}.yaml"))
+        assert run_serial(spec, progress=False) == 0
+        _, recs, _ = read_records(spec.output, curves=False)
+        assert len(recs) == 8 and all(r["status"] == "done" for r in recs.values())
+        solver = yaml.safe_load(next(iter(recs.values()))["scene_yaml"]).get("solver", {})
+        assert solver.get("far_field") == ("multipole" if name == "far" else None)
+        pages[name] = " ".join(headline(build(load_campaign(spec.output), spec.output,
+                                              n_boot=50)))
+        pages[name + "_keys"] = set(recs)
+    assert "far_field: multipole, which is not certified" in pages["far"]
+    assert "far_field" not in pages["ref"]
+    assert not pages["far_keys"] & pages["ref_keys"]

@@ -141,15 +141,17 @@ class SolverOptions:
         ``"exact"`` (default, the reference: every iteration is one FFT pair of the element
         grid) or ``"multipole"`` (each pillar's own block exact, every other pillar through its
         force and two tilts, by FFT on the pillar lattice; the state's field is made exact
-        every ``far_refresh`` solves, the direction's solves stay exact:
+        after every ``far_refresh`` held solves, the direction's solves stay exact:
         :mod:`fibril_hpc.solve.farfield`). 0.54-0.65 x the reference's CPU (medians over the
         18 x 18 and 36 x 36 corner scenes); its error is measured against the reference, not
         bounded event by event (docs/model.md §6). Needs pillars of one footprint on a lattice and
         ``confirm: global``; the local cascade is not used with it. Stored in the scene text, and
         part of job keys, only off its default.
     far_refresh : int
-        Solves of the state between two exact products under ``far_field: multipole``. Range
-        [1, 1e6]. Default 4. Stored in the scene text, and part of job keys, only off its
+        Solves of the state held with the moments between two exact products under
+        ``far_field: multipole`` (one exact product per ``far_refresh`` + 1 state solves; CG
+        iterates with the moments right after a refresh too, so no value reproduces the
+        reference). Range [1, 1e6]. Default 4. Stored in the scene text, and part of job keys, only off its
         default.
     """
 
@@ -187,8 +189,8 @@ class SolverOptions:
                               "with solver.cascade: local)")
         if self.far_field == "multipole" and self.confirm == "local":
             raise ConfigError("solver.far_field", self.far_field, "'exact' (solver.confirm: "
-                              "local certifies with the exact field, which 'multipole' holds "
-                              "only between refreshes)")
+                              "local certifies with the exact field, which 'multipole' has "
+                              "only right after a refresh)")
 
     @classmethod
     def from_preset(cls, name: str = DEFAULT_PRESET, **overrides) -> SolverOptions:

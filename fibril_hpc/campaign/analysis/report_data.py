@@ -79,6 +79,8 @@ class ReportData:
     seed_limits: list = field(default_factory=list)
     #: (n_side, phi, tip) of the brush read (:func:`campaign_brush`)
     brush: tuple = (None, math.nan, "")
+    #: the scene's ``solver.far_field`` (:func:`campaign_far_field`; "multipole" is uncertified)
+    far_field: str = "exact"
     #: every other line the page says once, below the tables (:func:`.headline.notes`)
     notes: list = field(default_factory=list)
     #: a grid sweeping n_side over two sizes or more: where adhesion is lost, per size and in
@@ -162,6 +164,16 @@ def campaign_preset(meta, jobs) -> tuple[str, float | None]:
                 epd = None
             return str(d.get("preset", "default")), epd
     return "", None
+
+
+def campaign_far_field(meta, jobs) -> str:
+    """The campaign scene's ``solver.far_field`` (:func:`_scene_maps`), "exact" where none
+    sets it."""
+    for d in _scene_maps(meta, jobs):
+        solver = d.get("solver")
+        if isinstance(solver, dict) and "far_field" in solver:
+            return str(solver["far_field"])
+    return "exact"
 
 
 def campaign_brush(meta, jobs, n_side=None) -> tuple:
@@ -296,6 +308,7 @@ def build(c, path: str, n_boot: int = N_BOOT, where=None) -> ReportData:
                    floor=floor, floor_note=floor_note, seeds_auto=seeds_auto(c.meta))
     d.seed_limits = seed_limits(points, floor, d.seeds_auto)
     d.brush = campaign_brush(c.meta, done, n_read)
+    d.far_field = campaign_far_field(c.meta, done)
     d.size_loss = sloss
     for k, s in sloss.items():                     # the read size: the measured sigma~_c
         if k in studies:
