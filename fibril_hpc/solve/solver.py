@@ -50,6 +50,11 @@ class ConstrainedCG:
     def __init__(self, operator, alpha: float, tol: float, maxiter: int,
                  preconditioner: str = "auto"):
         self.op = operator
+        if preconditioner == "auto" and not operator.exact_increments:
+            # far_field: multipole iterates with the operator the lattice level inverts exactly
+            # (one iteration per solve; `auto`'s two_level took 1.4 and flipped an 18 x 18
+            # `fast` corner's F~_A by 0.6 %: benchmarks/NOTES.md)
+            preconditioner = "lattice"
         self.precond = make_preconditioner(operator.geometry, alpha, operator.c0, preconditioner,
                                            fft_size=operator.m)
         # one number, or one per pillar (per-pillar stiffnesses; the kernels take either)
