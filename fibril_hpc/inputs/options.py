@@ -142,7 +142,7 @@ class SolverOptions:
         grid) or ``"multipole"`` (each pillar's own block exact, every other pillar through its
         force and two tilts, by FFT on the pillar lattice; the state's field is made exact
         after every ``far_refresh`` held solves, the direction's solves stay exact:
-        :mod:`fibril_hpc.solve.farfield`). 0.54-0.65 x the reference's CPU (medians over the
+        :mod:`fibril_hpc.solve.farfield`). 0.46-0.59 x the reference's CPU (medians over the
         18 x 18 and 36 x 36 corner scenes); its error is measured against the reference, not
         bounded event by event (docs/model.md §6). Needs pillars of one footprint on a lattice and
         ``confirm: global``; the local cascade is not used with it. Stored in the scene text, and

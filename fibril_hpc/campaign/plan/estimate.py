@@ -76,7 +76,8 @@ CONFIRM_LOCAL_CPU_PER_PAIR = 1.14
 #: benchmarks/results/confirm-grid-multipole/confirm_grid-exact-directions.csv): pairs 0.544
 #: (`default`) and 0.508 (`fast`), CPU 0.603 and 0.587, so 1.11 and 1.16 x the pair ratio
 #: (benchmarks/NOTES.md, "The far field as pillar moments"). `accurate`: not measured, priced as
-#: the reference path.
+#: the reference path. Since then ``auto`` takes the lattice level under it, which on the 18 x 18
+#: `fast` corners took fewer pairs (median 0.40 against 0.46): those are priced a little high.
 MULTIPOLE_PAIRS = {"fast": 0.51, "default": 0.54}
 MULTIPOLE_CPU_PER_PAIR = 1.13
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
