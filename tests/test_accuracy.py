@@ -81,45 +81,47 @@ def test_presets_in_the_study_are_the_presets(quick):
             assert same[0]["F_A"] == d["F_A"] and same[0]["wall_s"] == d["wall_s"]
 
 
-def test_confirm_local_is_a_point_beside_each_preset(quick):
+def beside_presets(quick, kind):
+    """(rows, page text, [(case, preset, the preset's row, the row of ``kind``)]) of the quick
+    study, for every case and preset."""
     rows = accuracy.read_rows(str(quick / "accuracy.csv"))
     accuracy.add_errors(rows)
     md = (quick / "accuracy.md").read_text()
-    for case in ("pillar", "brush6"):
-        for name in PRESETS:
-            g = next(r for r in rows if r["case"] == case and r["kind"] == "preset"
-                     and r["value"] == name)
-            loc = next(r for r in rows if r["case"] == case and r["kind"] == "local"
-                       and r["value"] == name)
-            assert loc["epd"] == g["epd"] and loc["status"] == "ok"
-            # its own run, with the confirmation on: the global path keeps no state locally
-            assert g["confirmed_local"] == 0 and loc["confirmed_local"] > 0
-            assert loc["F_A"] == pytest.approx(g["F_A"], rel=1e-3)
-            assert math.isfinite(loc["err_F_A"]) and loc["fft_pairs"] <= g["fft_pairs"]
-            assert f"| {name} + confirm: local |" in md
-            assert f"| {case} | {name} + confirm: local | " in md   # against its preset
+
+    def row(case, k, name):
+        return next(r for r in rows if r["case"] == case and r["kind"] == k
+                    and r["value"] == name)
+
+    pairs = [(case, name, row(case, "preset", name), row(case, kind, name))
+             for case in ("pillar", "brush6") for name in PRESETS]
+    return rows, md, pairs
+
+
+def test_confirm_local_is_a_point_beside_each_preset(quick):
+    rows, md, pairs = beside_presets(quick, "local")
+    for case, name, g, loc in pairs:
+        assert loc["epd"] == g["epd"] and loc["status"] == "ok"
+        # its own run, with the confirmation on: the global path keeps no state locally
+        assert g["confirmed_local"] == 0 and loc["confirmed_local"] > 0
+        assert loc["F_A"] == pytest.approx(g["F_A"], rel=1e-3)
+        assert math.isfinite(loc["err_F_A"]) and loc["fft_pairs"] <= g["fft_pairs"]
+        assert f"| {name} + confirm: local |" in md
+        assert f"| {case} | {name} + confirm: local | " in md   # against its preset
     # on the brush the local path skips global solves: fewer FFT pairs than its preset
     b = {r["kind"]: r for r in rows if r["case"] == "brush6" and r["value"] == "default"}
     assert b["local"]["fft_pairs"] < b["preset"]["fft_pairs"]
 
 
 def test_far_field_by_moments_is_a_point_beside_each_preset(quick):
-    rows = accuracy.read_rows(str(quick / "accuracy.csv"))
-    accuracy.add_errors(rows)
-    md = (quick / "accuracy.md").read_text()
-    for case in ("pillar", "brush6"):
-        for name in PRESETS:
-            g = next(r for r in rows if r["case"] == case and r["kind"] == "preset"
-                     and r["value"] == name)
-            far = next(r for r in rows if r["case"] == case and r["kind"] == "multipole"
-                       and r["value"] == name)
-            assert far["epd"] == g["epd"] and far["status"] == "ok"
-            assert far["F_A"] == pytest.approx(g["F_A"], rel=2e-3)
-            # (one pillar: its direction's exact solve takes the pair or two that the
-            # reference's local cascade does without)
-            assert math.isfinite(far["err_F_A"]) and far["fft_pairs"] <= g["fft_pairs"] + 2
-            assert f"| {name} + far_field: multipole |" in md
-            assert f"| {case} | {name} + far_field: multipole | " in md
+    rows, md, pairs = beside_presets(quick, "multipole")
+    for case, name, g, far in pairs:
+        assert far["epd"] == g["epd"] and far["status"] == "ok"
+        assert far["F_A"] == pytest.approx(g["F_A"], rel=2e-3)
+        # (one pillar: its direction's exact solve takes the pair or two that the
+        # reference's local cascade does without)
+        assert math.isfinite(far["err_F_A"]) and far["fft_pairs"] <= g["fft_pairs"] + 2
+        assert f"| {name} + far_field: multipole |" in md
+        assert f"| {case} | {name} + far_field: multipole | " in md
     b = {r["kind"]: r for r in rows if r["case"] == "brush6" and r["value"] == "default"}
     assert b["multipole"]["fft_pairs"] < b["preset"]["fft_pairs"]
 

@@ -51,17 +51,26 @@ def test_the_dry_run_prices_the_later_rounds_of_an_auto_grid(tmp_path, capsys):
     assert "round 0" not in out and "later" not in out
 
 
+def priced_against_reference(preset, solver, factors, cpu_per_pair):
+    """Assert that a scene with ``solver`` is priced as its reference scene times its pair
+    factor, each pair dearer by ``cpu_per_pair`` where measured (`accurate`, unmeasured, as
+    the reference path); returns the two scenes and the factor."""
+    ref = Scene(n_side=18, preset=preset, F_P=[0.1, 4])
+    new = Scene(n_side=18, preset=preset, F_P=[0.1, 4], solver=solver)
+    factor = factors.get(preset, 1.0)
+    assert estimate.task_pairs(new, 45) == pytest.approx(factor * estimate.task_pairs(ref, 45))
+    cpu = factor * (cpu_per_pair if factor < 1 else 1.0)
+    assert estimate.task_seconds(new, 2e-3, 45) == pytest.approx(
+        cpu * estimate.task_seconds(ref, 2e-3, 45))
+    return ref, new, factor
+
+
 def test_confirm_local_is_priced_by_its_measured_pair_ratio():
     for preset in ("fast", "default", "accurate"):
-        ref = Scene(n_side=18, preset=preset, F_P=[0.1, 4])
-        loc = Scene(n_side=18, preset=preset, F_P=[0.1, 4], solver={"confirm": "local"})
-        factor = estimate.CONFIRM_LOCAL_PAIRS.get(preset, 1.0)
-        assert estimate.task_pairs(loc, 45) == pytest.approx(factor * estimate.task_pairs(ref, 45))
-        # CPU: fewer pairs, each dearer by the confirmations' work; `accurate` (unmeasured)
-        # is priced as the reference path
-        cpu = factor * (estimate.CONFIRM_LOCAL_CPU_PER_PAIR if factor < 1 else 1.0)
-        assert estimate.task_seconds(loc, 2e-3, 45) == pytest.approx(
-            cpu * estimate.task_seconds(ref, 2e-3, 45))
+        # CPU: fewer pairs, each dearer by the confirmations' work
+        ref, loc, _ = priced_against_reference(preset, {"confirm": "local"},
+                                               estimate.CONFIRM_LOCAL_PAIRS,
+                                               estimate.CONFIRM_LOCAL_CPU_PER_PAIR)
         assert estimate.task_seconds(loc, 2e-3, 45) < estimate.task_seconds(ref, 2e-3, 45) or \
             preset == "accurate"
     assert estimate.CONFIRM_LOCAL_PAIRS["default"] < estimate.CONFIRM_LOCAL_PAIRS["fast"] < 1
@@ -98,13 +107,9 @@ def test_far_field_multipole_is_priced_by_the_corner_grids_ratios():
     with open(path, newline="", encoding="utf-8") as fh:
         rows = [r for r in csv.DictReader(fh) if r["status"] == "ok/ok"]
     for preset in ("fast", "default", "accurate"):
-        ref = Scene(n_side=18, preset=preset, F_P=[0.1, 4])
-        far = Scene(n_side=18, preset=preset, F_P=[0.1, 4], solver={"far_field": "multipole"})
-        factor = estimate.MULTIPOLE_PAIRS.get(preset, 1.0)
-        assert estimate.task_pairs(far, 45) == pytest.approx(factor * estimate.task_pairs(ref, 45))
-        cpu = factor * (estimate.MULTIPOLE_CPU_PER_PAIR if factor < 1 else 1.0)
-        assert estimate.task_seconds(far, 2e-3, 45) == pytest.approx(
-            cpu * estimate.task_seconds(ref, 2e-3, 45))
+        _, _, factor = priced_against_reference(preset, {"far_field": "multipole"},
+                                                estimate.MULTIPOLE_PAIRS,
+                                                estimate.MULTIPOLE_CPU_PER_PAIR)
         mine = [r for r in rows if r["preset"] == preset]
         if preset == "accurate":
             assert not mine and factor == 1.0

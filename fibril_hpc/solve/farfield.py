@@ -93,6 +93,10 @@ class MultipoleField:
         self._q = np.zeros((ng, 3))
         self._t = np.zeros((ng, 3))
         self._v = np.zeros(g.n_active)
+        # work vectors of a product (the moments' spread) and of a sparse change's product, so
+        # that neither allocates per call
+        self._spread = np.zeros(g.n_active)
+        self._sum = np.zeros(g.n_active)
         self.applications = 0
 
     # the reference operator's attributes that other parts read (tests, certificates, cascades)
@@ -110,7 +114,7 @@ class MultipoleField:
         """The arrays this operator owns, the reference operator's included."""
         out = dict(self.exact.work_arrays())
         out.update({"self_block": self._self, "far_moments": self._q, "far_values": self._t,
-                    "sparse_change": self._v})
+                    "sparse_change": self._v, "spread": self._spread, "change_product": self._sum})
         return out
 
     def dense(self) -> np.ndarray:
@@ -129,7 +133,9 @@ class MultipoleField:
         np.matmul(P, self._self, out=O)                 # K_self is symmetric
         np.matmul(P, self._C, out=self._q)
         self.couplings.apply(self._q, self._blocks, self._use, self._t)
-        O += self._t @ self._C.T
+        S = self._spread.reshape(ng, m)
+        np.matmul(self._t, self._C.T, out=S)
+        O += S
         self.applications += 1
         return out
 
@@ -144,5 +150,5 @@ class MultipoleField:
         v = self._v
         v[:] = 0.0
         v[idx] = vals
-        u += self.apply_increment(v, np.empty_like(u))
+        u += self.apply_increment(v, self._sum)
         return True
