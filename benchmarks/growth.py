@@ -5,6 +5,7 @@
     python benchmarks/growth.py --sides 36 --threads 1 2          # one scene on one and two threads
     python benchmarks/growth.py --sides 36 --preconditioner block two_level
     python benchmarks/growth.py --sides 18 --floor               # per pair over the bare full pair
+    python benchmarks/growth.py --sides 18 36 64 100 --preset fast --far-field multipole
 
 One scene per brush side n (n x n pillars, k~ = 0.01, sigma~ = 0.5, F~_P = 4, seed 0 unless
 given), each run in a fresh child process so that its peak memory is its own. Printed per row:
@@ -45,7 +46,7 @@ def child(args: dict) -> dict:
     solver = {"fft_threads": args["threads"]}
     if args["preconditioner"] != "auto":
         solver["preconditioner"] = args["preconditioner"]
-    for key in ("confirm", "confirm_tol"):     # benchmarks/confirm.py
+    for key in ("confirm", "confirm_tol", "far_field"):     # benchmarks/confirm.py, --far-field
         if args.get(key) is not None:
             solver[key] = args[key]
     scene = Scene(n_side=args["n_side"], k_tilde=args["k"], sigma_tilde=args["sigma"],
@@ -61,11 +62,13 @@ def child(args: dict) -> dict:
            "pairs_per_event": st["fft_pairs"] / max(st["events"], 1), "cpu_s": cpu,
            "wall_s": wall, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
            "F_A": r.main.F_A, "F_P": r.main.F_P, "status": r.status,
-           "load_1min": os.getloadavg()[0], "confirm": r.scene.solver.confirm}
+           "load_1min": os.getloadavg()[0], "confirm": r.scene.solver.confirm,
+           "far_field": r.scene.solver.far_field}
     for key in ("confirmed_local", "confirmed_global", "certificates_refused",
-                "directions_local", "directions_refused", "force_bound_tilde"):
+                "directions_local", "directions_refused", "force_bound_tilde",
+                "directions_certified", "direction_bound_tilde"):
         if key in st:
-            row[key] = float(st[key]) if key == "force_bound_tilde" else int(st[key])
+            row[key] = float(st[key]) if key.endswith("_tilde") else int(st[key])
     if args.get("floor"):           # after the curve and its peak memory
         row.update(_floors(row["fft_size"], cpu, st["fft_pairs"]))
     return row
@@ -119,6 +122,8 @@ def main(argv=None) -> int:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--floor", action="store_true",
                    help="also time the bare full pair on each FFT side (both planners)")
+    p.add_argument("--far-field", choices=["exact", "multipole"], default="exact",
+                   help="solver.far_field of every scene (exact: the reference)")
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     a = p.parse_args(argv)
     rows = []
@@ -127,7 +132,8 @@ def main(argv=None) -> int:
             for th in a.threads:
                 row = run_child({"n_side": n, "preset": a.preset, "preconditioner": pc,
                                  "threads": th, "k": a.k, "sigma": a.sigma, "F_P": a.F_P,
-                                 "seed": a.seed, "floor": a.floor})
+                                 "seed": a.seed, "floor": a.floor,
+                                 "far_field": None if a.far_field == "exact" else a.far_field})
                 rows.append(row)
                 print(f"  n_side {n} {pc} ({row['chosen']}) threads {th}: {row['fft_pairs']} pairs, "
                       f"{row['events']} events, {row['cpu_s']:.1f} CPU s, "

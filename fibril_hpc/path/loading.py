@@ -31,13 +31,14 @@ from ..errors import NoConvergenceError
 from ..kernels import compiled as kern
 from ..solve.cascade import LocalCascade
 from ..solve.certify import ForceCertificate
+from .confirm import ConfirmMixin
 from .records import BranchResult, CurveRecorder, Snapshot
 from .snapshots import SnapshotMixin
 
 _MAX_RELAX_PASSES = 100_000
 
 
-class PathDriver(SnapshotMixin):
+class PathDriver(SnapshotMixin, ConfirmMixin):
     """Owns the mutable state of one load path on a :class:`~fibril_hpc.model.Model`."""
 
     def work_arrays(self) -> dict:
@@ -102,6 +103,11 @@ class PathDriver(SnapshotMixin):
         self.certificate = (ForceCertificate(g, model.operator, model.solver.alpha,
                                              opts.confirm_tol * model.scaling.F_c)
                             if opts.confirm == "local" else None)
+        #: ``far_field: multipole``: the bound that stops a direction's exact solve early
+        #: (:mod:`fibril_hpc.path.confirm`; not on a compliant machine's path)
+        self.slope_check = (ForceCertificate(g, model.operator.exact, model.solver.alpha,
+                                             opts.confirm_tol * model.scaling.F_c)
+                            if opts.far_field == "multipole" and self.LOCAL_DIRECTION else None)
         self._fresh_direction = False
         self.relaxations = 0        # calls of relax(): events, preload snapshots, solve_at
         self.deadline = (math.inf if opts.max_wall_s is None
@@ -190,64 +196,17 @@ class PathDriver(SnapshotMixin):
         raise NoConvergenceError(f"contact set did not settle in {_MAX_RELAX_PASSES} passes "
                                  f"at d = {self.d:.6g}")
 
-    def _confirm_locally(self) -> bool:
-        """``confirm: local``: end the relaxation at the local fixed point, without a global
-        solve, if the update rule flips nothing on the whole grid (u made exact)
-        and the force bound (:mod:`fibril_hpc.solve.certify`, with the direction solved here
-        on the set) is within ``confirm_tol``; else the caller's global solve follows."""
-        self._exact_field(self.p, self.p_ref, self.u)
-        self._forces(self.p, self.f)
-        self._gaps(self.u, self.f, self.d, 1.0, self.g)
-        m = self.model
-        if kern.update_contact_set(self.p.copy(), self.g, self.att.copy(), self.starts, m.sigma_c,
-                                   self.tol_p, self.tol_g, self.worst_only) != (0, 0):
-            return False
-        self.solve_direction()
-        cert = self.certificate
-        self._fresh_direction = cert.accept(cert.bound(self.att, self._b, self.p, self.u,
-                                                       self.p1, self.u1, self._ones))
-        if self._fresh_direction:
-            self.att_ref[:] = self.att
-        return self._fresh_direction
-
-    #: whether ``confirm: local`` may keep a locally solved direction (a path that moves one
-    #: way to its next event; a compliant machine's jumps go either way and solve globally)
-    LOCAL_DIRECTION = True
-
-    def _direction_locally(self) -> bool:
-        """``confirm: local``: keep the locally solved direction, without a global solve, if
-        its certified force-slope error times the distance to the next event is within
-        ``confirm_tol`` (:mod:`fibril_hpc.solve.certify`; u1 made exact first)."""
-        if not self.LOCAL_DIRECTION:
-            return False
-        self._exact_field(self.p1, self.p1_ref, self.u1)
-        self._forces(self.p1, self.f1)
-        self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
-        reach = self.next_event(1.0 if self.phase == "loading" else -1.0)
-        return self.certificate.accept_direction(self.att, self.p1, self.u1, self._ones, reach)
-
-    def _exact_field(self, x, x_ref, u):
-        """u <- K x exactly (``confirm: local``, before a bound): direct sums of x - x_ref
-        where cheaper than an FFT pair, else one pair (which also refreshes u); x_ref <- x."""
-        idx = np.flatnonzero(x != x_ref)
-        if self._since_full < self.model.operator.refresh_every and \
-                self.model.operator.add_point_loads(u, idx, x[idx] - x_ref[idx]):
-            self._since_full += 1
-        else:
-            self.model.operator.apply(x, u)
-            self._since_full = 0
-        x_ref[:] = x
-
     def _changed_groups(self, x, x_ref, att_ref):
         """Groups with an element whose value or attachment changed since the last solve."""
         diff = (x != x_ref) | (self.att != att_ref)
         return np.unique(self.group_of[diff])
 
-    def _solve(self, b, x, u, x_ref, tol=None, exact=False) -> int:
+    def _solve(self, b, x, u, x_ref, tol=None, exact=False, accept=None) -> int:
         """Solve on the current set, keeping u = K x valid without a full product (one FFT
         pair) until the operator's ``refresh_every`` incrementally kept solves of the field.
         ``exact``: iterate with the exact product, u kept exact (under ``far_field:
-        multipole`` the direction's solve, whose field then counts on its own)."""
+        multipole`` the direction's solve, whose field then counts on its own); ``accept``:
+        a further stopping test of the solver's (:meth:`ConstrainedCG.solve`)."""
         op = self.model.operator
         name = "_since_full" if op.exact_increments or x_ref is self.p_ref else "_since_full1"
         since = getattr(self, name)
@@ -256,7 +215,8 @@ class PathDriver(SnapshotMixin):
             idx = np.flatnonzero(x != x_ref)
             valid = op.add_point_loads(u, idx, x[idx] - x_ref[idx], exact=exact)
         setattr(self, name, since + 1 if valid else 0)
-        its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid, exact=exact)
+        its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid, exact=exact,
+                                      accept=accept)
         x_ref[:] = x
         return its
 
@@ -277,8 +237,10 @@ class PathDriver(SnapshotMixin):
                     self.local.solve(groups, self._ones, self.p1, self.p1_ref, self.u1, self.att)
                     done = self.certificate is not None and self._direction_locally()
             if not done:
-                # exact under far_field: multipole too (solve/farfield.py says why)
-                self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir, exact=True)
+                # exact under far_field: multipole too (solve/farfield.py says why), there
+                # stopped once its force slope is certified (path/confirm.py)
+                self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir, exact=True,
+                            accept=self._slope_stop())
         else:
             self.u1[:] = 0.0
             self.p1_ref[:] = 0.0
@@ -420,6 +382,9 @@ class PathDriver(SnapshotMixin):
         """Pull off from a preload snapshot until no element is attached."""
         self.restore(snap)
         self.phase = "unloading"
+        if self.slope_check is not None:
+            # the snapshot's direction was certified for the loading reach: check it for this one
+            self.solve_direction()
         curve = CurveRecorder()
         self.record(curve)
         ng = self.model.geometry.n_groups

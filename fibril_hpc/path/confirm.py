@@ -1,0 +1,90 @@
+"""Certified shortcuts of a load path: a state or a direction kept on the force bound of
+:mod:`fibril_hpc.solve.certify` instead of a solve to full tolerance
+(:class:`~fibril_hpc.path.loading.PathDriver` inherits these methods).
+
+* ``solver.confirm: local``: a local fixed point of the cascade ends a relaxation, and a locally
+  solved direction is kept, when their certified force error is within ``confirm_tol``.
+* ``solver.far_field: multipole``: the direction's exact CG stops at the first iterate whose
+  certified force-slope error, times the distance the path follows it, is within ``confirm_tol``
+  (each iterate's field is exact there, so its residual and the bound are too).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..kernels import compiled as kern
+
+
+class ConfirmMixin:
+    """The certificate's decisions of a :class:`PathDriver` (which provides the state arrays,
+    ``certificate``, ``slope_check``, ``solve_direction``, ``next_event`` and the field
+    helpers)."""
+
+    def _confirm_locally(self) -> bool:
+        """``confirm: local``: end the relaxation at the local fixed point, without a global
+        solve, if the update rule flips nothing on the whole grid (u made exact)
+        and the force bound (:mod:`fibril_hpc.solve.certify`, with the direction solved here
+        on the set) is within ``confirm_tol``; else the caller's global solve follows."""
+        self._exact_field(self.p, self.p_ref, self.u)
+        self._forces(self.p, self.f)
+        self._gaps(self.u, self.f, self.d, 1.0, self.g)
+        m = self.model
+        if kern.update_contact_set(self.p.copy(), self.g, self.att.copy(), self.starts, m.sigma_c,
+                                   self.tol_p, self.tol_g, self.worst_only) != (0, 0):
+            return False
+        self.solve_direction()
+        cert = self.certificate
+        self._fresh_direction = cert.accept(cert.bound(self.att, self._b, self.p, self.u,
+                                                       self.p1, self.u1, self._ones))
+        if self._fresh_direction:
+            self.att_ref[:] = self.att
+        return self._fresh_direction
+
+    #: whether a direction may be kept on its certified bound (a path that moves one way to its
+    #: next event; a compliant machine's jumps go either way and solve to full tolerance)
+    LOCAL_DIRECTION = True
+
+    def _direction_locally(self) -> bool:
+        """``confirm: local``: keep the locally solved direction, without a global solve, if
+        its certified force-slope error times the distance to the next event is within
+        ``confirm_tol`` (:mod:`fibril_hpc.solve.certify`; u1 made exact first)."""
+        if not self.LOCAL_DIRECTION:
+            return False
+        self._exact_field(self.p1, self.p1_ref, self.u1)
+        return self._direction_certified(self.certificate)
+
+    def _direction_certified(self, check, step=None) -> bool:
+        """Whether the direction p1 (u1 = K p1 exactly) is kept: ``check``'s slope bound times
+        the distance to the next event along it, in the phase's direction, within its
+        tolerance (the decision is counted by ``check``). ``step``: CG's next preconditioned
+        correction of p1, an estimate of its error: kept only if that moves no attached
+        element's value by more than the update rule's tolerance over the reach, so that the
+        events fall where the exact direction puts them."""
+        self._forces(self.p1, self.f1)
+        self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
+        reach = self.next_event(1.0 if self.phase == "loading" else -1.0)
+        near = step is None or reach * float(np.max(np.abs(step) * self.att)) <= self.tol_p
+        return check.accept_direction(self.att, self.p1, self.u1, self._ones, reach, near)
+
+    def _slope_stop(self):
+        """``far_field: multipole``: the stopping test the direction's exact CG adds to its
+        tolerance (None where directions are solved to ``direction_tol``)."""
+        if self.slope_check is None:
+            return None
+        return lambda step: self._direction_certified(self.slope_check, step)
+
+    def _exact_field(self, x, x_ref, u):
+        """u <- K x exactly (``confirm: local``, before a bound): direct sums of x - x_ref
+        where cheaper than an FFT pair, else one pair (which also refreshes u); x_ref <- x."""
+        idx = np.flatnonzero(x != x_ref)
+        if self._since_full < self.model.operator.refresh_every and \
+                self.model.operator.add_point_loads(u, idx, x[idx] - x_ref[idx]):
+            self._since_full += 1
+        else:
+            self.model.operator.apply(x, u)
+            self._since_full = 0
+        x_ref[:] = x
+
+
+__all__ = ["ConfirmMixin"]
