@@ -27,10 +27,10 @@ previous fit of 0.55: 0.31), its four corners at `fast` (0.82x of 0.25) and at `
 confirmation, docs/model.md §6) skips global solves: its pairs are scaled by
 ``CONFIRM_LOCAL_PAIRS[preset]``, the measured ratio to the reference path, and its CPU per pair
 by ``CONFIRM_LOCAL_CPU_PER_PAIR`` (the confirmations' own work); one with ``far_field:
-multipole`` likewise by ``MULTIPOLE_PAIRS`` and ``MULTIPOLE_CPU_PER_PAIR``. Expect up to ~2x
-either way on single tasks (soft smooth brushes are cheaper than the model, stiff smooth ones
-dearer), less on a whole grid. When the output file already holds finished jobs, their measured
-mean wall time per task is used instead.
+multipole`` likewise by ``MULTIPOLE_PAIRS`` and ``MULTIPOLE_CPU_PER_PAIR`` (both per
+preset). Expect up to ~2x either way on single tasks (soft smooth brushes are cheaper than
+the model, stiff smooth ones dearer), less on a whole grid. When the output file already holds
+finished jobs, their measured mean wall time per task is used instead.
 """
 
 from __future__ import annotations
@@ -71,15 +71,15 @@ CONFIRM_LOCAL_PAIRS = {"fast": 0.84, "default": 0.75}
 #: shared machine; benchmarks/NOTES.md, issue 35 item 5).
 CONFIRM_LOCAL_CPU_PER_PAIR = 1.14
 #: FFT pairs of a ``far_field: multipole`` path over the reference path's, per preset, and its
-#: CPU per pair over the reference's (the moment products and the lattice level's inner solves):
-#: the summed ratios of the same corner grid run with it (two calls on a lent 16-core machine;
-#: benchmarks/results/confirm-grid-multipole/confirm_grid-exact-directions.csv): pairs 0.544
-#: (`default`) and 0.508 (`fast`), CPU 0.603 and 0.587, so 1.11 and 1.16 x the pair ratio
-#: (benchmarks/NOTES.md, "The far field as pillar moments"). `accurate`: not measured, priced as
-#: the reference path. Since then ``auto`` takes the lattice level under it, which on the 18 x 18
-#: `fast` corners took fewer pairs (median 0.40 against 0.46): those are priced a little high.
-MULTIPOLE_PAIRS = {"fast": 0.51, "default": 0.54}
-MULTIPOLE_CPU_PER_PAIR = 1.13
+#: CPU per pair over the reference's, per preset (the moment products, the lattice level's inner
+#: solves and the directions' certificates, which no pair counts): the summed ratios of the same
+#: corner grid run with it, the directions stopped where certified (both paths on the 2-core
+#: machine, two processes at a time; benchmarks/results/confirm-grid-multipole/
+#: confirm_grid-certified-directions.csv): pairs 0.389 (`default`) and 0.338 (`fast`), CPU 0.503
+#: and 0.504, so 1.29 and 1.49 x the pair ratio (benchmarks/NOTES.md, "Directions stopped where
+#: certified"). `accurate`: not measured, priced as the reference path.
+MULTIPOLE_PAIRS = {"fast": 0.34, "default": 0.39}
+MULTIPOLE_CPU_PER_PAIR = {"fast": 1.49, "default": 1.29}
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
 #: with the pillar count N_p away from it, per preset: ~ N_p^SIZE_GROWTH[p][0] below,
 #: ~ N_p^SIZE_GROWTH[p][1] above. `default` (and `accurate`, not measured apart): the growth
@@ -175,7 +175,7 @@ def task_seconds(scene, pair_s: float, elements_per_pillar: int) -> float:
     if scene.solver.confirm == "local" and scene.preset in CONFIRM_LOCAL_PAIRS:   # measured
         per_pair *= CONFIRM_LOCAL_CPU_PER_PAIR
     if scene.solver.far_field == "multipole" and scene.preset in MULTIPOLE_PAIRS:
-        per_pair *= MULTIPOLE_CPU_PER_PAIR
+        per_pair *= MULTIPOLE_CPU_PER_PAIR[scene.preset]
     return task_pairs(scene, elements_per_pillar) * per_pair
 
 
