@@ -197,10 +197,25 @@ def test_the_certified_stop_keeps_the_events_of_the_exact_direction(case):
     1.1e-3 when a direction was kept on its force bound alone (events then fall where the
     unfinished direction puts them), and by 4.2e-5 and 4.1e-5 with the test of the next
     correction (benchmarks/NOTES.md): that test must hold, and directions are still kept."""
+    from fibril_hpc.solve.certify import ForceCertificate
+
+    kept = []
+    accept = ForceCertificate.accept_direction
+
+    def spy(self, *args, **kw):
+        out = accept(self, *args, **kw)
+        kept.append(self.direction_worst)
+        return out
+
     kw = dict(elements_per_diameter=5, F_P=(4.0,), **case)
-    ref, new = run(False, **kw), run(True, **kw)
+    ref = run(False, **kw)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(ForceCertificate, "accept_direction", spy)
+        new = run(True, **kw)
     assert_close(ref, new, rel=2e-4)
     assert new.stats["directions_certified"] > 0
+    F_c = build_scene_model(new.scene).scaling.F_c
+    assert new.stats["direction_bound_tilde"] == pytest.approx(max(kept) / F_c, rel=1e-12)
     assert 0.0 < new.stats["direction_bound_tilde"] <= 5e-5       # confirm_tol's default
 
 
@@ -256,8 +271,18 @@ def test_a_kept_direction_is_within_its_bound_in_each_phase(monkeypatch):
     assert make_driver(model, 0.5).slope_check is None
     calls = []
     accept = ForceCertificate.accept_direction
+    steps = []
+    certified = driver._direction_certified
+
+    def stash(check, step=None):
+        steps.append(step)
+        return certified(check, step)
 
     def spy(self, att, p1, u1, ones, reach, near=True):
+        # the reach in the phase's direction, the next correction's test on |z| over S
+        assert reach == driver.next_event(1.0 if driver.phase == "loading" else -1.0)
+        z = steps[-1]
+        assert near == (reach * np.abs(z[att != 0]).max() <= driver.tol_p)
         kept = accept(self, att, p1, u1, ones, reach, near)
         calls.append((driver.phase, driver.events, kept, near,
                       self.slope_bound(att, p1, u1, ones) * reach))
@@ -272,6 +297,7 @@ def test_a_kept_direction_is_within_its_bound_in_each_phase(monkeypatch):
 
     monkeypatch.setattr(ForceCertificate, "accept_direction", spy)
     monkeypatch.setattr(driver, "solve_direction", solve_direction)
+    monkeypatch.setattr(driver, "_direction_certified", stash)
     snaps = driver.load([4.0 * model.scaling.F_c], "F", CurveRecorder())
     loaded = driver.events
     driver.unload(snaps[0])
@@ -280,6 +306,15 @@ def test_a_kept_direction_is_within_its_bound_in_each_phase(monkeypatch):
     assert any(not near for *_, near, _ in calls)          # the correction test refused some
     assert ("unloading", loaded) in solves                  # before any unloading event
     assert check.direction_local == sum(c[2] for c in calls)
+    # the next correction's test reads |z|: one large value of either sign refuses
+    driver.restore(snaps[0])
+    driver.phase = "unloading"
+    monkeypatch.undo()
+    z = np.zeros_like(driver.p1)
+    assert driver._direction_certified(check, z)
+    for sign in (1.0, -1.0):
+        z[np.flatnonzero(driver.att)[0]] = sign * 1e6 * driver.tol_p
+        assert not driver._direction_certified(check, z)
 
 
 def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
