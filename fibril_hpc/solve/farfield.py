@@ -30,9 +30,9 @@ F~_A by up to 0.9 % on small brushes, the held states by at most 0.14 % (benchma
 far field as pillar moments"). Their field being exact, each iterate's residual is, so the load
 path stops a direction's CG at the first iterate whose force slope is certified within
 ``confirm_tol`` over its segment and whose next correction moves no element's value beyond the
-update rule's tolerance (:mod:`fibril_hpc.path.confirm`): most directions are then the last one
-with the flipped elements taken out, one FFT pair or none. ``solver.confirm: local``, whose
-certificate needs an exact u, does not combine with it.
+update rule's tolerance (:mod:`fibril_hpc.path.confirm`): a direction then takes about one
+exact iteration or none (1.1 on average on the 18 x 18 `default` scene, against 2.0).
+``solver.confirm: local``, whose certificate needs an exact u, does not combine with it.
 
 The lattice carries the same multipole couplings the preconditioner of
 :mod:`fibril_hpc.solve.lattice` uses, so with that preconditioner CG on Ka converges in one or two
