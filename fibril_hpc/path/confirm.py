@@ -59,12 +59,13 @@ class ConfirmMixin:
         the distance to the next event along it, in the phase's direction, within its
         tolerance (the decision is counted by ``check``). ``step``: CG's next preconditioned
         correction of p1, an estimate of its error: kept only if that moves no attached
-        element's value by more than the update rule's tolerance over the reach, so that the
-        events fall where the exact direction puts them."""
+        element's value by more than ``tol_step`` over the reach (the update rule's tolerance,
+        at most as at cg_tol 1e-8), so that the events fall where the exact direction puts
+        them."""
         self._forces(self.p1, self.f1)
         self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
         reach = self.next_event(1.0 if self.phase == "loading" else -1.0)
-        near = step is None or reach * float(np.max(np.abs(step) * self.att)) <= self.tol_p
+        near = step is None or reach * float(np.max(np.abs(step) * self.att)) <= self.tol_step
         return check.accept_direction(self.att, self.p1, self.u1, self._ones, reach, near)
 
     def _slope_stop(self):

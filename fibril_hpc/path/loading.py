@@ -36,6 +36,11 @@ from .records import BranchResult, CurveRecorder, Snapshot
 from .snapshots import SnapshotMixin
 
 _MAX_RELAX_PASSES = 100_000
+#: the loosest cg_tol whose update-rule tolerance a kept direction's next correction may use:
+#: at `fast`'s 1e-6 (a correction of 1e-3 sigma_c over the reach) unloading from small preloads
+#: of smooth brushes moved F~_A by up to 2 % (benchmarks/NOTES.md, "Directions stopped where
+#: certified"); `default`'s 1e-8 was measured on the corner grid
+STEP_CG_TOL = 1e-8
 
 
 class PathDriver(SnapshotMixin, ConfirmMixin):
@@ -94,6 +99,9 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
                                 opts.load_merge_spread * g.length_spread())}
         self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
         self.tol_g = 1e3 * opts.cg_tol * d_c
+        #: how far a kept direction's next correction may move an element over its reach
+        #: (path/confirm.py): the update rule's tolerance, at most as at cg_tol = STEP_CG_TOL
+        self.tol_step = self.tol_p * min(1.0, STEP_CG_TOL / opts.cg_tol)
         self.tol_dir = opts.direction_tolerance
         self.worst_only = opts.detach_policy == "worst"
         # not under far_field: multipole, whose global solves cost no element-grid FFT
