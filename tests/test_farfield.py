@@ -255,14 +255,19 @@ def test_the_solver_stops_where_accept_says_and_hands_it_the_next_correction():
     assert np.array_equal(x, x0)
 
 
-def test_a_loose_preset_keeps_directions_only_as_close_as_at_default():
-    """The 18 x 18 `fast` smooth brush of paper.yaml's corners unloaded from a small preload:
-    with the next correction judged by `fast`'s own update-rule tolerance (1e-3 sigma_c) its
-    F~_A moved by 2.0 %; judged as at cg_tol 1e-8 it is the reference's to 3.5e-6."""
-    kw = dict(n_side=18, preset="fast", k_tilde=10.0, sigma_tilde=0.01, seed=1, F_P=(0.016,))
-    ref, new = run(False, **kw), run(True, **kw)
+@pytest.mark.parametrize("case", [
+    dict(preset="fast", k_tilde=10.0, sigma_tilde=0.01, seed=1, F_P=(0.016,)),
+    dict(preset="default", k_tilde=0.001, sigma_tilde=0.01, seed=0, F_P=(0.001,)),
+], ids=["fast-stiff", "default-soft"])
+def test_small_preloads_of_smooth_brushes_keep_the_reference_F_A(case):
+    """18 x 18 smooth brushes of paper.yaml's corners at small preloads. `fast`, stiff: with the
+    next correction judged by `fast`'s own update-rule tolerance (1e-3 sigma_c) F~_A moved by
+    2.0 %, judged as at cg_tol 1e-8 by 3.5e-6. `default`, soft: with the loading's directions
+    kept on their bound too (its events are gaps closing, which test (ii) does not see) F~_A
+    moved by 1.3 %, with them solved to `direction_tol` by 1.7e-6."""
+    ref, new = run(False, n_side=18, **case), run(True, n_side=18, **case)
     assert_close(ref, new, rel=1e-4)
-    assert new.stats["fft_pairs"] < ref.stats["fft_pairs"] / 2
+    assert new.stats["fft_pairs"] < ref.stats["fft_pairs"] * 0.7
 
 
 def test_a_kept_direction_is_within_its_bound_in_each_phase(monkeypatch):
@@ -315,6 +320,7 @@ def test_a_kept_direction_is_within_its_bound_in_each_phase(monkeypatch):
     assert any(kept for *_, kept, _, _ in calls)
     assert any(not near for *_, near, _ in calls)          # the correction test refused some
     assert ("unloading", loaded) in solves                  # before any unloading event
+    assert calls and all(c[0] == "unloading" for c in calls)    # loading: to direction_tol
     assert check.direction_local == sum(c[2] for c in calls)
     # the next correction's test reads |z|: one large value of either sign refuses
     driver.restore(snaps[0])
