@@ -143,7 +143,7 @@ class SolverOptions:
         force and two tilts, by FFT on the pillar lattice; the state's field is made exact
         after every ``far_refresh`` held solves, the direction's solves iterate exactly and,
         unloading, stop where their force slope is certified within ``confirm_tol``:
-        :mod:`fibril_hpc.solve.farfield`). 0.47-0.56 x the reference's CPU (medians over the
+        :mod:`fibril_hpc.solve.farfield`). 0.54-0.66 x the reference's CPU (medians over the
         18 x 18 and 36 x 36 corner scenes); the states' error is measured against the
         reference, not bounded event by event (docs/model.md §6). Needs pillars of one
         footprint on a lattice and ``confirm: global``; the local cascade is not used with it.
