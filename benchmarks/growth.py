@@ -65,8 +65,7 @@ def child(args: dict) -> dict:
            "load_1min": os.getloadavg()[0], "confirm": r.scene.solver.confirm,
            "far_field": r.scene.solver.far_field}
     for key in ("confirmed_local", "confirmed_global", "certificates_refused",
-                "directions_local", "directions_refused", "force_bound_tilde",
-                "directions_certified", "direction_bound_tilde"):
+                "directions_local", "directions_refused", "force_bound_tilde"):
         if key in st:
             row[key] = float(st[key]) if key.endswith("_tilde") else int(st[key])
     if args.get("floor"):           # after the curve and its peak memory

@@ -247,10 +247,6 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
     }
     if model.options.far_field == "multipole":      # fibril_hpc.solve.farfield
         res.stats["far_field_products"] = model.operator.applications - far0
-    check = driver.slope_check
-    if check is not None:       # its directions' certified stop (fibril_hpc.path.confirm)
-        res.stats.update(directions_certified=check.direction_local,
-                         direction_bound_tilde=float(check.direction_worst / sc.F_c))
     if isinstance(driver, MachineDriver):
         res.stats.update(jumps=driver.jumps, jump_events=driver.jump_events)
     cert = driver.certificate

@@ -17,7 +17,6 @@ from hypothesis import strategies as st
 
 from fibril_hpc import Scene, simulate
 from fibril_hpc.errors import ConfigError
-from fibril_hpc.kernels import compiled as kern
 from fibril_hpc.inputs.options import SolverOptions
 from fibril_hpc.model import build_scene_model
 from fibril_hpc.path.loading import PathDriver
@@ -181,78 +180,10 @@ def test_fixed_scenes_match_and_save_pairs(case):
 
 def test_the_direction_is_as_good_as_exact():
     """A soft brush whose F~_A moved by -0.92 % when its directions were solved with the
-    moments too (and by 2e-7 with exact directions): the direction's solve stays exact, or
-    stops where its force slope is certified and its events fall where an exact one puts them."""
+    moments too (and by 2e-7 with exact directions): the direction's solve stays exact."""
     kw = dict(n_side=5, elements_per_diameter=5, k_tilde=0.001, sigma_tilde=0.5, seed=8612,
               F_P=(4.0,))
     assert_close(run(False, **kw), run(True, **kw), rel=1e-5)
-
-
-@pytest.mark.parametrize("case", [
-    dict(n_side=5, k_tilde=1.0, sigma_tilde=0.01, seed=4534),
-    dict(n_side=6, k_tilde=10.0, sigma_tilde=0.1, seed=815),
-], ids=["5x5-stiff-smooth", "6x6-stiff"])
-def test_the_certified_stop_keeps_the_events_of_the_exact_direction(case):
-    """Two brushes of ``benchmarks/farfield_sweep.py --seed 1`` whose F~_A moved by 7.5e-4 and
-    1.1e-3 when a direction was kept on its force bound alone (events then fall where the
-    unfinished direction puts them), and by 4.2e-5 and 4.1e-5 with the test of the next
-    correction (benchmarks/NOTES.md): that test must hold, and directions are still kept."""
-    from fibril_hpc.solve.certify import ForceCertificate
-
-    kept = []
-    accept = ForceCertificate.accept_direction
-
-    def spy(self, *args, **kw):
-        out = accept(self, *args, **kw)
-        kept.append(self.direction_worst)
-        return out
-
-    kw = dict(elements_per_diameter=5, F_P=(4.0,), **case)
-    ref = run(False, **kw)
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(ForceCertificate, "accept_direction", spy)
-        new = run(True, **kw)
-    assert_close(ref, new, rel=2e-4)
-    assert new.stats["directions_certified"] > 0
-    F_c = build_scene_model(new.scene).scaling.F_c
-    assert new.stats["direction_bound_tilde"] == pytest.approx(max(kept) / F_c, rel=1e-12)
-    assert 0.0 < new.stats["direction_bound_tilde"] <= 5e-5       # confirm_tol's default
-
-
-def test_the_solver_stops_where_accept_says_and_hands_it_the_next_correction():
-    """``accept(z)`` is asked at the start and after each iteration short of the tolerance,
-    with z = M^-1 r; True ends the solve there (x and u as they are), never True solves to the
-    tolerance as without it."""
-    model, _ = field(n_side=4, k_tilde=0.01, sigma_tilde=0.5)
-    solver, op = model.solver, model.operator
-    n = model.geometry.n_active
-    att = np.ones(n, dtype=np.uint8)
-    b = np.ones(n)
-    x0, u0 = np.zeros(n), np.zeros(n)
-    its = solver.solve(att, b, x0, u0, 1e-10)
-    assert its > 2
-    seen = []
-
-    def after(k):
-        def accept(z):
-            r = np.empty(n)
-            kern.residual(b, u, x, att, model.geometry.starts, solver.alpha, r)
-            zz = np.empty(n)
-            solver.precond.apply(r, att, zz)
-            assert np.abs(z - zz).max() <= 1e-8 * np.abs(zz).max()
-            seen.append(len(seen))
-            return len(seen) > k
-        return accept
-
-    for k in (0, 2):
-        seen.clear()
-        x, u = np.zeros(n), np.zeros(n)
-        assert solver.solve(att, b, x, u, 1e-10, accept=after(k)) == k
-        assert len(seen) == k + 1
-        assert np.allclose(u, op.apply(x, np.empty(n)), rtol=1e-9, atol=1e-12 * np.abs(u).max())
-    x, u = np.zeros(n), np.zeros(n)
-    assert solver.solve(att, b, x, u, 1e-10, accept=lambda z: False) == its
-    assert np.array_equal(x, x0)
 
 
 @pytest.mark.parametrize("case", [
@@ -260,78 +191,13 @@ def test_the_solver_stops_where_accept_says_and_hands_it_the_next_correction():
     dict(preset="default", k_tilde=0.001, sigma_tilde=0.01, seed=0, F_P=(0.001,)),
 ], ids=["fast-stiff", "default-soft"])
 def test_small_preloads_of_smooth_brushes_keep_the_reference_F_A(case):
-    """18 x 18 smooth brushes of paper.yaml's corners at small preloads. `fast`, stiff: with the
-    loading's directions kept on their bound and the next correction judged by `fast`'s own
-    update-rule tolerance (1e-3 sigma_c) F~_A moved by 2.0 %, judged as at cg_tol 1e-8 by 3.5e-6
-    (with the loading solved in full either way passes). `default`, soft: with the loading's
-    directions kept on their bound (its events are gaps closing, which test (ii) does not see)
-    F~_A moved by 1.3 %, with them solved to `direction_tol` by 1.7e-6."""
+    """18 x 18 smooth brushes of paper.yaml's corners at small preloads, where directions kept on
+    a certified force-slope bound (a step tried and taken out, benchmarks/NOTES.md, "The
+    certified stop of a direction") moved F~_A by 2.0 % (`fast`, stiff) and 1.3 % (`default`,
+    soft): with exact directions they stay within 1e-4 of the reference."""
     ref, new = run(False, n_side=18, **case), run(True, n_side=18, **case)
     assert_close(ref, new, rel=1e-4)
-    assert new.stats["fft_pairs"] < ref.stats["fft_pairs"] * 0.7
-
-
-def test_a_kept_direction_is_within_its_bound_in_each_phase(monkeypatch):
-    """Every direction the certified stop keeps has its slope bound times its reach within
-    ``confirm_tol``; some are refused on the next correction alone; the snapshot's direction,
-    certified for the loading reach, is checked again for the unloading one before the first
-    unloading event; a compliant machine's path solves its directions to full tolerance."""
-    from fibril_hpc.path.machine import make_driver
-    from fibril_hpc.solve.certify import ForceCertificate
-
-    model, _ = field(n_side=6, k_tilde=1.0, sigma_tilde=0.01, seed=9807, F_P=(4.0,),
-                     solver={"far_field": "multipole"})
-    driver = PathDriver(model)
-    check = driver.slope_check
-    assert check is not None and driver.certificate is None
-    assert make_driver(model, 0.5).slope_check is None
-    calls = []
-    accept = ForceCertificate.accept_direction
-    steps = []
-    certified = driver._direction_certified
-
-    def stash(check, step=None):
-        steps.append(step)
-        return certified(check, step)
-
-    def spy(self, att, p1, u1, ones, reach, near=True):
-        # the reach in the phase's direction, the next correction's test on |z| over S
-        assert reach == driver.next_event(1.0 if driver.phase == "loading" else -1.0)
-        z = steps[-1]
-        assert near == (reach * np.abs(z[att != 0]).max() <= driver.tol_step)
-        kept = accept(self, att, p1, u1, ones, reach, near)
-        calls.append((driver.phase, driver.events, kept, near,
-                      self.slope_bound(att, p1, u1, ones) * reach))
-        return kept
-
-    solves = []
-    solve = driver.solve_direction
-
-    def solve_direction():
-        solves.append((driver.phase, driver.events))
-        return solve()
-
-    monkeypatch.setattr(ForceCertificate, "accept_direction", spy)
-    monkeypatch.setattr(driver, "solve_direction", solve_direction)
-    monkeypatch.setattr(driver, "_direction_certified", stash)
-    snaps = driver.load([4.0 * model.scaling.F_c], "F", CurveRecorder())
-    loaded = driver.events
-    driver.unload(snaps[0])
-    assert all(value <= check.tol for _, _, kept, _, value in calls if kept)
-    assert any(kept for *_, kept, _, _ in calls)
-    assert any(not near for *_, near, _ in calls)          # the correction test refused some
-    assert ("unloading", loaded) in solves                  # before any unloading event
-    assert calls and all(c[0] == "unloading" for c in calls)    # loading: to direction_tol
-    assert check.direction_local == sum(c[2] for c in calls)
-    # the next correction's test reads |z|: one large value of either sign refuses
-    driver.restore(snaps[0])
-    driver.phase = "unloading"
-    monkeypatch.undo()
-    z = np.zeros_like(driver.p1)
-    assert driver._direction_certified(check, z)
-    for sign in (1.0, -1.0):
-        z[np.flatnonzero(driver.att)[0]] = sign * 1e6 * driver.tol_step
-        assert not driver._direction_certified(check, z)
+    assert new.stats["fft_pairs"] < ref.stats["fft_pairs"] * 0.8
 
 
 def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
@@ -361,10 +227,10 @@ def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
         hits["u" if out is driver.u else "u1" if out is driver.u1 else "other"] += 1
         return exact(p, out)
 
-    def counted(b, x, u, x_ref, tol=None, exact=False, accept=None):
+    def counted(b, x, u, x_ref, tol=None, exact=False):
         states[0] += u is driver.u
         directions[0] += u is driver.u1
-        return solve(b, x, u, x_ref, tol, exact, accept)
+        return solve(b, x, u, x_ref, tol, exact)
 
     monkeypatch.setattr(op, "apply", spy)
     monkeypatch.setattr(driver, "_solve", counted)

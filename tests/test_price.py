@@ -105,7 +105,7 @@ def test_far_field_multipole_is_priced_by_the_corner_grids_ratios():
     import os
 
     path = os.path.join(os.path.dirname(__file__), "..", "benchmarks", "results",
-                        "confirm-grid-multipole", "confirm_grid-certified-directions.csv")
+                        "confirm-grid-multipole", "confirm_grid-exact-directions-device.csv")
     with open(path, newline="", encoding="utf-8") as fh:
         rows = [r for r in csv.DictReader(fh) if r["status"] == "ok/ok"]
     for preset in ("fast", "default", "accurate"):

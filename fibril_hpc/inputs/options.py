@@ -141,11 +141,10 @@ class SolverOptions:
         ``"exact"`` (default, the reference: every iteration is one FFT pair of the element
         grid) or ``"multipole"`` (each pillar's own block exact, every other pillar through its
         force and two tilts, by FFT on the pillar lattice; the state's field is made exact
-        after every ``far_refresh`` held solves, the direction's solves iterate exactly and,
-        unloading, stop where their force slope is certified within ``confirm_tol``:
-        :mod:`fibril_hpc.solve.farfield`). 0.54-0.66 x the reference's CPU (medians over the
-        18 x 18 and 36 x 36 corner scenes); the states' error is measured against the
-        reference, not bounded event by event (docs/model.md §6). Needs pillars of one
+        after every ``far_refresh`` held solves, the direction's solves stay exact:
+        :mod:`fibril_hpc.solve.farfield`). 0.48-0.59 x the reference's CPU (medians over the
+        18 x 18 and 36 x 36 corner scenes, two runs side by side on a 16-core machine); its error is
+        measured against the reference, not bounded event by event (docs/model.md §6). Needs pillars of one
         footprint on a lattice and ``confirm: global``; the local cascade is not used with it.
         Stored in the scene text, and part of job keys, only off its default.
     far_refresh : int

@@ -1,14 +1,7 @@
-"""Certified shortcuts of a load path: a state or a direction kept on the force bound of
-:mod:`fibril_hpc.solve.certify` instead of a solve to full tolerance
-(:class:`~fibril_hpc.path.loading.PathDriver` inherits these methods).
-
-* ``solver.confirm: local``: a local fixed point of the cascade ends a relaxation, and a locally
-  solved direction is kept, when their certified force error is within ``confirm_tol``.
-* ``solver.far_field: multipole``: while unloading, the direction's exact CG stops at the first
-  iterate whose certified force-slope error, times the distance the path follows it, is within
-  ``confirm_tol`` (each iterate's field is exact there, so its residual and the bound are too),
-  and whose next correction would not move the events. The loading's directions are solved to
-  ``direction_tol``: its events are gaps closing, which that second test does not see.
+"""Certified shortcuts of a load path under ``solver.confirm: local``: a local fixed point of
+the cascade ends a relaxation, and a locally solved direction is kept, when their force error
+bound (:mod:`fibril_hpc.solve.certify`) is within ``confirm_tol``, instead of a global solve to
+full tolerance (:class:`~fibril_hpc.path.loading.PathDriver` inherits these methods).
 """
 
 from __future__ import annotations
@@ -20,8 +13,7 @@ from ..kernels import compiled as kern
 
 class ConfirmMixin:
     """The certificate's decisions of a :class:`PathDriver` (which provides the state arrays,
-    ``certificate``, ``slope_check``, ``solve_direction``, ``next_event`` and the field
-    helpers)."""
+    ``certificate``, ``solve_direction``, ``next_event`` and the field helpers)."""
 
     def _confirm_locally(self) -> bool:
         """``confirm: local``: end the relaxation at the local fixed point, without a global
@@ -54,30 +46,10 @@ class ConfirmMixin:
         if not self.LOCAL_DIRECTION:
             return False
         self._exact_field(self.p1, self.p1_ref, self.u1)
-        return self._direction_certified(self.certificate)
-
-    def _direction_certified(self, check, step=None) -> bool:
-        """Whether the direction p1 (u1 = K p1 exactly) is kept: ``check``'s slope bound times
-        the distance to the next event along it, in the phase's direction, within its
-        tolerance (the decision is counted by ``check``). ``step``: CG's next preconditioned
-        correction of p1, an estimate of its error: kept only if that moves no attached
-        element's value by more than ``tol_step`` over the reach (the update rule's tolerance,
-        at most as at cg_tol 1e-8), so that the events fall where the exact direction puts
-        them."""
         self._forces(self.p1, self.f1)
         self._gaps(self.u1, self.f1, 1.0, 0.0, self.g1)
         reach = self.next_event(1.0 if self.phase == "loading" else -1.0)
-        near = step is None or reach * float(np.max(np.abs(step) * self.att)) <= self.tol_step
-        return check.accept_direction(self.att, self.p1, self.u1, self._ones, reach, near)
-
-    def _slope_stop(self):
-        """``far_field: multipole``, unloading: the stopping test the direction's exact CG adds
-        to its tolerance (None where directions are solved to ``direction_tol``: the other
-        options, a compliant machine's path, and loading, where kept directions moved F~_A of
-        soft smooth brushes at small preloads by up to 1.3 %)."""
-        if self.slope_check is None or self.phase == "loading":
-            return None
-        return lambda step: self._direction_certified(self.slope_check, step)
+        return self.certificate.accept_direction(self.att, self.p1, self.u1, self._ones, reach)
 
     def _exact_field(self, x, x_ref, u):
         """u <- K x exactly (``confirm: local``, before a bound): direct sums of x - x_ref

@@ -36,11 +36,6 @@ from .records import BranchResult, CurveRecorder, Snapshot
 from .snapshots import SnapshotMixin
 
 _MAX_RELAX_PASSES = 100_000
-#: the loosest cg_tol whose update-rule tolerance a kept direction's next correction may use:
-#: at `fast`'s 1e-6 (a correction of 1e-3 sigma_c over the reach) unloading from small preloads
-#: of smooth brushes moved F~_A by up to 2 % (benchmarks/NOTES.md, "Directions stopped where
-#: certified"); `default`'s 1e-8 was measured on the corner grid
-STEP_CG_TOL = 1e-8
 
 
 class PathDriver(SnapshotMixin, ConfirmMixin):
@@ -99,9 +94,6 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
                                 opts.load_merge_spread * g.length_spread())}
         self.tol_p = 1e3 * opts.cg_tol * (model.sigma_c if model.adhesion else 1.0)
         self.tol_g = 1e3 * opts.cg_tol * d_c
-        #: how far a kept direction's next correction may move an element over its reach
-        #: (path/confirm.py): the update rule's tolerance, at most as at cg_tol = STEP_CG_TOL
-        self.tol_step = self.tol_p * min(1.0, STEP_CG_TOL / opts.cg_tol)
         self.tol_dir = opts.direction_tolerance
         self.worst_only = opts.detach_policy == "worst"
         # not under far_field: multipole, whose global solves cost no element-grid FFT
@@ -111,11 +103,6 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
         self.certificate = (ForceCertificate(g, model.operator, model.solver.alpha,
                                              opts.confirm_tol * model.scaling.F_c)
                             if opts.confirm == "local" else None)
-        #: ``far_field: multipole``: the bound that stops a direction's exact solve early
-        #: (:mod:`fibril_hpc.path.confirm`; not on a compliant machine's path)
-        self.slope_check = (ForceCertificate(g, model.operator.exact, model.solver.alpha,
-                                             opts.confirm_tol * model.scaling.F_c)
-                            if opts.far_field == "multipole" and self.LOCAL_DIRECTION else None)
         self._fresh_direction = False
         self.relaxations = 0        # calls of relax(): events, preload snapshots, solve_at
         self.deadline = (math.inf if opts.max_wall_s is None
@@ -209,12 +196,11 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
         diff = (x != x_ref) | (self.att != att_ref)
         return np.unique(self.group_of[diff])
 
-    def _solve(self, b, x, u, x_ref, tol=None, exact=False, accept=None) -> int:
+    def _solve(self, b, x, u, x_ref, tol=None, exact=False) -> int:
         """Solve on the current set, keeping u = K x valid without a full product (one FFT
         pair) until the operator's ``refresh_every`` incrementally kept solves of the field.
         ``exact``: iterate with the exact product, u kept exact (under ``far_field:
-        multipole`` the direction's solve, whose field then counts on its own); ``accept``:
-        a further stopping test of the solver's (:meth:`ConstrainedCG.solve`)."""
+        multipole`` the direction's solve, whose field then counts on its own)."""
         op = self.model.operator
         name = "_since_full" if op.exact_increments or x_ref is self.p_ref else "_since_full1"
         since = getattr(self, name)
@@ -223,8 +209,7 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
             idx = np.flatnonzero(x != x_ref)
             valid = op.add_point_loads(u, idx, x[idx] - x_ref[idx], exact=exact)
         setattr(self, name, since + 1 if valid else 0)
-        its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid, exact=exact,
-                                      accept=accept)
+        its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid, exact=exact)
         x_ref[:] = x
         return its
 
@@ -245,10 +230,8 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
                     self.local.solve(groups, self._ones, self.p1, self.p1_ref, self.u1, self.att)
                     done = self.certificate is not None and self._direction_locally()
             if not done:
-                # exact under far_field: multipole too (solve/farfield.py says why), there
-                # stopped once its force slope is certified (path/confirm.py)
-                self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir, exact=True,
-                            accept=self._slope_stop())
+                # exact under far_field: multipole too (solve/farfield.py says why)
+                self._solve(self._ones, self.p1, self.u1, self.p1_ref, self.tol_dir, exact=True)
         else:
             self.u1[:] = 0.0
             self.p1_ref[:] = 0.0
@@ -390,9 +373,6 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
         """Pull off from a preload snapshot until no element is attached."""
         self.restore(snap)
         self.phase = "unloading"
-        if self.slope_check is not None:
-            # the snapshot's direction was certified for the loading reach: check it for this one
-            self.solve_direction()
         curve = CurveRecorder()
         self.record(curve)
         ng = self.model.geometry.n_groups

@@ -101,11 +101,10 @@ class ForceCertificate:
         rr1 = kern.residual(ones, u1, p1, att, self.starts, self.alpha, self._r1)
         return self.h2 * (abs(float(p1 @ self._r1)) + rr1 / self.lam)
 
-    def accept_direction(self, att, p1, u1, ones, reach: float, near: bool = True) -> bool:
+    def accept_direction(self, att, p1, u1, ones, reach: float) -> bool:
         """Whether a direction is kept: its slope bound times ``reach`` (the distance the path
-        will follow it, to its next event) is at most the tolerance, and the caller's ``near``
-        (its own test of where the events fall) holds; counts the decision."""
-        value = self.slope_bound(att, p1, u1, ones) * reach if near else math.inf
+        will follow it, to its next event) is at most the tolerance; counts the decision."""
+        value = self.slope_bound(att, p1, u1, ones) * reach
         if value <= self.tol:
             self.direction_local += 1
             self.direction_worst = max(self.direction_worst, value)

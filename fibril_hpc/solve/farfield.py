@@ -25,14 +25,10 @@ it every ``refresh_every`` solves of the state. Between two refreshes the state'
 field of the last refresh plus Ka times what changed since, and its solves converge to the state
 of that held field, not of K: the error is (K - Ka) times the change since the refresh, not
 bounded event by event. The direction's solves (p1 = A^-1 1_S, which carries the force along a
-segment and places the next event) iterate with the exact product: solved with Ka too they moved
-F~_A by up to 0.9 % on small brushes, the held states by at most 0.14 % (benchmarks/NOTES.md, "The
-far field as pillar moments"). Their field being exact, each iterate's residual is, so while
-unloading the load path stops a direction's CG at the first iterate whose force slope is
-certified within ``confirm_tol`` over its segment and whose next correction moves no element's
-value beyond the update rule's tolerance (:mod:`fibril_hpc.path.confirm`); the loading's
-directions are solved to ``direction_tol``. ``solver.confirm: local``, whose certificate needs an
-exact u, does not combine with it.
+segment and places the next event) stay exact: solved with Ka too they moved F~_A by up to 0.9 %
+on small brushes, the held states by at most 0.14 % (benchmarks/NOTES.md, "The far field as
+pillar moments"). ``solver.confirm: local``, whose certificate needs an exact u, does not combine
+with it.
 
 The lattice carries the same multipole couplings the preconditioner of
 :mod:`fibril_hpc.solve.lattice` uses, so with that preconditioner CG on Ka converges in one or two

@@ -80,17 +80,13 @@ class ConstrainedCG:
                 if isinstance(v, np.ndarray) and id(v) not in shared}
 
     def solve(self, att, b, x, u, tol: float | None = None, u_valid: bool = False,
-              exact: bool = False, accept=None) -> int:
+              exact: bool = False) -> int:
         """Solve A x = b on S = {att != 0} in place; u <- K x on every active element.
 
         ``tol`` overrides the relative tolerance for this solve. ``u_valid`` says that ``u``
         already holds K x (the caller kept it up to date), which saves the initial product.
         ``exact`` iterates with the operator's exact product (``apply``) even where its
-        ``apply_increment`` is an approximation. ``accept(z)``: asked at the start and after
-        every iteration that misses the tolerance, with z = M^-1 r (the preconditioned residual,
-        the next correction's shape), whether to end the solve there; it may read x and u, which
-        are exact only with ``exact`` or an exact operator (the load path's certified stop of a
-        direction, :mod:`fibril_hpc.path.confirm`). Returns the iteration count of this solve.
+        ``apply_increment`` is an approximation. Returns the iteration count of this solve.
         """
         op, starts, alpha = self.op, self.starts, self.alpha
         product = op.apply if exact else op.apply_increment
@@ -110,8 +106,6 @@ class ConstrainedCG:
         pc = self.precond
         pc.update(att)
         rz = pc.apply(r, att, z)
-        if accept is not None and accept(z):
-            return 0
         d[:] = z
         for it in range(1, self.maxiter + 1):
             product(d, kd)
@@ -128,8 +122,6 @@ class ConstrainedCG:
             if math.sqrt(rr) <= tol * math.sqrt(uu) + floor:
                 return it
             rz_new = pc.apply(r, att, z)
-            if accept is not None and accept(z):
-                return it
             kern.cg_direction(z, d, rz_new / rz)
             rz = rz_new
         raise NoConvergenceError(

@@ -71,16 +71,15 @@ CONFIRM_LOCAL_PAIRS = {"fast": 0.84, "default": 0.75}
 #: shared machine; benchmarks/NOTES.md, issue 35 item 5).
 CONFIRM_LOCAL_CPU_PER_PAIR = 1.14
 #: FFT pairs of a ``far_field: multipole`` path over the reference path's, per preset, and its
-#: CPU per pair over the reference's, per preset (the moment products, the lattice level's inner
-#: solves and the directions' certificates, which no pair counts): the summed ratios of the same
-#: corner grid run with it, the unloading's directions stopped where certified (on the 2-core
-#: machine, two processes at a time, the multipole runs beside a third: their CPU is high;
-#: benchmarks/results/confirm-grid-multipole/confirm_grid-certified-directions.csv): pairs 0.483
-#: (`default`) and 0.466 (`fast`), CPU 0.624 and 0.594, so 1.29 and 1.27 x the pair ratio
-#: (benchmarks/NOTES.md, "Directions stopped where certified"). `accurate`: not measured, priced
-#: as the reference path.
-MULTIPOLE_PAIRS = {"fast": 0.47, "default": 0.48}
-MULTIPOLE_CPU_PER_PAIR = {"fast": 1.27, "default": 1.29}
+#: CPU per pair over the reference's, per preset (the moment products and the lattice level's
+#: inner solves, which no pair counts): the summed ratios of the same corner grid run with it
+#: (both paths side by side, 15 processes on a lent 16-core machine;
+#: benchmarks/results/confirm-grid-multipole/confirm_grid-exact-directions-device.csv): pairs
+#: 0.544 (`default`) and 0.484 (`fast`), CPU 0.559 and 0.546, so 1.03 and 1.13 x the pair ratio
+#: (benchmarks/NOTES.md, "The certified stop of a direction, measured side by side and taken
+#: out"). `accurate`: not measured, priced as the reference path.
+MULTIPOLE_PAIRS = {"fast": 0.48, "default": 0.54}
+MULTIPOLE_CPU_PER_PAIR = {"fast": 1.13, "default": 1.03}
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
 #: with the pillar count N_p away from it, per preset: ~ N_p^SIZE_GROWTH[p][0] below,
 #: ~ N_p^SIZE_GROWTH[p][1] above. `default` (and `accurate`, not measured apart): the growth
