@@ -7,6 +7,7 @@ draw says why; a poor fit is flagged in its legend.
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 
@@ -262,7 +263,7 @@ def alpha_sigma_c(data, out_dir, name="alpha_sigma_c.png"):
             ax.set_xscale("log")
         if not drawn:
             text = f"no {name_} to draw:\n" + (why or "no k̃ has α and β")
-            say(ax, "\n".join(text[i:i + 60] for i in range(0, min(len(text), 360), 60)))
+            say(ax, note_lines(text))
         if attr == "beta" or (attr == "alpha" and ax.get_yscale() == "linear"):
             ax.axhline(0, color="0.6", lw=0.5)
         ax.set_xlabel(f"pillar stiffness {KT}")
@@ -271,6 +272,13 @@ def alpha_sigma_c(data, out_dir, name="alpha_sigma_c.png"):
             ax.set_title(f"{name_} (seed intervals)", fontsize=10)
     fig.tight_layout()
     return save(fig, out_dir, name)
+
+
+def note_lines(text: str, width: int = 60, most: int = 6) -> str:
+    """``text`` wrapped at word boundaries into at most ``most`` lines of ``width`` characters
+    (its own line breaks kept), an ellipsis closing a cut."""
+    lines = [ln for part in text.split("\n") for ln in (textwrap.wrap(part, width) or [""])]
+    return "\n".join(lines[:most] + (["…"] if len(lines) > most else []))
 
 
 def _sigma_c_panel(ax, data) -> bool:
