@@ -76,7 +76,8 @@ CONFIRM_LOCAL_CPU_PER_PAIR = 1.14
 #: (both paths side by side, 15 processes on a lent 16-core machine;
 #: benchmarks/results/confirm-grid-multipole/confirm_grid-exact-directions-device.csv): pairs
 #: 0.544 (`default`) and 0.484 (`fast`), CPU 0.559 and 0.546, so 1.03 and 1.13 x the pair ratio
-#: (benchmarks/NOTES.md, "The certified stop of a direction, measured side by side and taken
+#: (an identical second run of the moments' path in the same call gives 1.05 and 1.14;
+#: benchmarks/NOTES.md, "The certified stop of a direction, measured side by side and taken
 #: out"). `accurate`: not measured, priced as the reference path.
 MULTIPOLE_PAIRS = {"fast": 0.48, "default": 0.54}
 MULTIPOLE_CPU_PER_PAIR = {"fast": 1.13, "default": 1.03}
