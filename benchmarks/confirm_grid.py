@@ -70,6 +70,8 @@ def run_one(task) -> str:
              F_A=main.F_A, cpu_s=cpu, fft_pairs=st["fft_pairs"], events=st["events"],
              confirmed_local=st.get("confirmed_local", 0),
              force_bound=st.get("force_bound_tilde", 0.0), status=r.status,
+             held_certified=st.get("held_certified", 0), held_refreshes=st.get("held_refreshes", 0),
+             held_uncertified=st.get("held_uncertified", 0),
              n_side=n, preset=preset, k=k, sigma=s, confirm=confirm, **curves)
     return f"{_name(n, preset, k, s, confirm)} {r.status} {cpu:.1f} s"
 

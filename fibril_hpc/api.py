@@ -247,6 +247,11 @@ def _simulate(scene: Scene, model: Model | None, operators: OperatorCache | None
     }
     if model.options.far_field == "multipole":      # fibril_hpc.solve.farfield
         res.stats["far_field_products"] = model.operator.applications - far0
+    held = driver.held_check
+    if held is not None:        # its held states' force bound (fibril_hpc.path.confirm)
+        res.stats.update(held_certified=held.local, held_refreshes=held.refused,
+                         held_uncertified=driver.held_uncertified,
+                         force_bound_tilde=float((held.worst + held.direction_worst) / sc.F_c))
     if isinstance(driver, MachineDriver):
         res.stats.update(jumps=driver.jumps, jump_events=driver.jump_events)
     cert = driver.certificate

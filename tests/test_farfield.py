@@ -243,7 +243,8 @@ def test_the_state_is_refreshed_on_its_own_count(monkeypatch):
 
 def test_a_campaign_under_the_moments_keeps_the_option_and_its_report_says_so(tmp_path):
     """The runner hands the option to the solver; the records keep it in their scene (job keys
-    differ from the reference's); the report's "Before quoting" names it as uncertified."""
+    differ from the reference's); the report's "Before quoting" says its events are not
+    certified."""
     import yaml
     from campaign_helpers import write_grid
 
@@ -271,6 +272,6 @@ def test_a_campaign_under_the_moments_keeps_the_option_and_its_report_says_so(tm
         pages[name] = " ".join(headline(build(load_campaign(spec.output), spec.output,
                                               n_boot=50)))
         pages[name + "_keys"] = set(recs)
-    assert "far_field: multipole, which is not certified" in pages["far"]
+    assert "far_field: multipole, whose contact events are not certified" in pages["far"]
     assert "far_field" not in pages["ref"]
     assert not pages["far_keys"] & pages["ref_keys"]

@@ -42,6 +42,9 @@ class Snapshot:
     u1: np.ndarray
     n_points: int           # loading-curve points recorded before this state
     point: tuple            # (d, F, attached elements, pillars in contact) of this state
+    #: the pressure of the state field's last exact product (far_field: multipole: u is exact
+    #: only for it, held by Ka for the rest; None: u is exact)
+    p0: np.ndarray | None = None
 
 
 @dataclass

@@ -15,7 +15,7 @@ class SnapshotMixin:
     ``move``, ``relax``, ``solve_direction``, ``force`` and the state arrays)."""
 
     _STATE = ("p", "u", "att", "g", "f", "p1", "u1", "g1", "f1", "p_ref", "p1_ref", "att_ref",
-              "att1_ref")
+              "att1_ref", "p0")
 
     def _save(self) -> dict:
         out = {k: getattr(self, k).copy() for k in self._STATE}
@@ -67,7 +67,8 @@ class SnapshotMixin:
             raise NoConvergenceError("the preload state did not settle")
         snap = Snapshot(self.d, self.p.copy(), self.u.copy(), self.att.copy(), self.p1.copy(),
                         self.u1.copy(), n_points,
-                        (self.d, self.force(), self.n_attached(), self.pillars_in_contact()))
+                        (self.d, self.force(), self.n_attached(), self.pillars_in_contact()),
+                        self.p0.copy())
         self._load(saved)
         return snap
 
@@ -81,6 +82,7 @@ class SnapshotMixin:
         self.u1[:] = snap.u1
         self.p_ref[:] = snap.p
         self.p1_ref[:] = snap.p1
+        self.p0[:] = snap.p if snap.p0 is None else snap.p0
         self.att_ref[:] = snap.att
         self.att1_ref[:] = snap.att
         self._since_full = 0

@@ -1,5 +1,5 @@
 """A certified bound on the force error of a state that no global solve confirmed
-(``solver.confirm: local``).
+(``solver.confirm: local``), or whose far field is held (``solver.far_field: multipole``).
 
 After a contact event the local cascade (:mod:`fibril_hpc.solve.cascade`) solves the pillars
 whose set changed exactly, with the pressure on every other pillar held. Its state ``x`` is not
@@ -24,6 +24,11 @@ m >= 2n - 1), by Cauchy interlacing. Its minimum is positive (about 0.52 K(0, 0)
 grid) and computed once per grid; a non-positive minimum certifies nothing. The second term is
 a product of two small residuals (the direction is solved to ``direction_tol``), so the bound is
 essentially the first-order estimate |h^2 p1^T r|, which is itself exact for the exact p1.
+
+Under ``far_field: multipole`` a state's u holds K x - e, e the held far field's error: the
+exact residual is r - e, and with p1 . e and a bound of |e| on S given
+(:mod:`fibril_hpc.path.confirm`) :meth:`ForceCertificate.held_bound` bounds that state's force
+error the same way.
 
 What is *not* bounded here: which elements the exact state would detach or attach. A local fixed
 point is only proposed when the update rule, applied on the whole grid with the exact u, flips
@@ -100,6 +105,18 @@ class ForceCertificate:
             return math.inf
         rr1 = kern.residual(ones, u1, p1, att, self.starts, self.alpha, self._r1)
         return self.h2 * (abs(float(p1 @ self._r1)) + rr1 / self.lam)
+
+    def held_bound(self, att, b, x, u, p1, u1, ones, shift: float, e_norm: float) -> float:
+        """|F* - F| bound of a state ``x`` whose ``u`` holds K x - e, e unknown but with
+        p1 . e = ``shift`` and |e| <= ``e_norm`` on the set (``far_field: multipole``'s held
+        field, :mod:`fibril_hpc.path.confirm`): the module docstring's bound with the exact
+        residual r - e, h^2 (|p1 . r - shift| + |r1| (|r| + e_norm) / lambda_min)."""
+        if self.lam <= 0.0:
+            return math.inf
+        rr = kern.residual(b, u, x, att, self.starts, self.alpha, self._r)
+        rr1 = kern.residual(ones, u1, p1, att, self.starts, self.alpha, self._r1)
+        first = abs(float(p1 @ self._r) - shift)
+        return self.h2 * (first + math.sqrt(rr1) * (math.sqrt(rr) + e_norm) / self.lam)
 
     def accept_direction(self, att, p1, u1, ones, reach: float) -> bool:
         """Whether a direction is kept: its slope bound times ``reach`` (the distance the path

@@ -23,8 +23,14 @@ more than one footprint's elements are added with (:meth:`add_point_loads`; exac
 below); the full field u = K p (:meth:`apply`) stays exact, one FFT pair, and the load path calls
 it every ``refresh_every`` solves of the state. Between two refreshes the state's u is the exact
 field of the last refresh plus Ka times what changed since, and its solves converge to the state
-of that held field, not of K: the error is (K - Ka) times the change since the refresh, not
-bounded event by event. The direction's solves (p1 = A^-1 1_S, which carries the force along a
+of that held field, not of K: the error is e = (K - Ka)(p - p0), p0 the pressure of the last
+refresh. Between two pillars K - Ka is a block R_s that depends only on their lattice offset s
+(R_0 = 0), so :meth:`MultipoleField.pillar_bound` bounds e pillar by pillar by the offset norms
+|R_s|_2 (:meth:`MultipoleField.remainder_norms`, computed once) convolved with the pillars'
+changes; with it, and with p1 . e = w . (p - p0) for w = (K - Ka) p1 (K and Ka are symmetric),
+the load path certifies the force of the state that ends each relaxation and refreshes where
+that bound exceeds ``confirm_tol`` (:mod:`fibril_hpc.path.confirm`). Which elements flip is not
+bounded. The direction's solves (p1 = A^-1 1_S, which carries the force along a
 segment and places the next event) stay exact: solved with Ka too they moved F~_A by up to 0.9 %
 on small brushes, the held states by at most 0.14 % (benchmarks/NOTES.md, "The far field as
 pillar moments"). ``solver.confirm: local``, whose certificate needs an exact u, does not combine
@@ -98,6 +104,7 @@ class MultipoleField:
         self._spread = np.zeros(g.n_active)
         self._sum = np.zeros(g.n_active)
         self.applications = 0
+        self._norms = {}            # remainder_norms() by kind, once asked for
 
     # the reference operator's attributes that other parts read (tests, certificates, cascades)
     @property
@@ -138,6 +145,58 @@ class MultipoleField:
         O += S
         self.applications += 1
         return out
+
+    def remainder_norms(self, spectral: bool = False) -> np.ndarray:
+        """A bound of |R_s|_2, the remainder K - Ka between two pillars at lattice offset
+        s = (db, da), on the centred (2 n_y - 1, 2 n_x - 1) grid of offsets (offset (0, 0), the
+        own block, exact: 0): the Frobenius norms (memory and time O(footprint x elements)), or
+        with ``spectral`` the 2-norms themselves (an SVD per pillar and footprint-squared
+        memory per pillar: studies and tests). Computed once per kind, exactly: the columns of K
+        (direct sums) and of Ka of the four corner pillars' elements, from which every offset
+        of the brush is seen."""
+        if spectral not in self._norms:
+            lat = self.couplings.lattice
+            ng, m = self._q.shape[0], self.footprint
+            ny, nx = lat.shape
+            ia, ib = np.asarray(lat.ia), np.asarray(lat.ib)
+            table = np.zeros((2 * ny - 1, 2 * nx - 1))
+            corners = {int(np.argmin(ia + ib)), int(np.argmax(ia + ib)),
+                       int(np.argmin(ia - ib)), int(np.argmax(ia - ib))}
+            n = ng * m
+            unit, ke, ka = np.zeros(n), np.zeros(n), np.empty(n)
+            for c in corners:
+                R = np.empty((ng, m, m)) if spectral else None
+                fro2 = np.zeros(ng)
+                for f in range(m):
+                    unit[c * m + f] = 1.0
+                    ke[:] = 0.0
+                    self.exact.add_point_loads(ke, np.array([c * m + f]), np.ones(1))
+                    self.apply_increment(unit, ka)
+                    unit[c * m + f] = 0.0
+                    col = (ke - ka).reshape(ng, m)
+                    if spectral:
+                        R[:, :, f] = col
+                    else:
+                        fro2 += np.einsum("ij,ij->i", col, col)
+                norms = np.linalg.norm(R, 2, axis=(1, 2)) if spectral else np.sqrt(fro2)
+                db, da = ib - ib[c] + ny - 1, ia - ia[c] + nx - 1
+                table[db, da] = np.maximum(table[db, da], norms)
+            table[ny - 1, nx - 1] = 0.0
+            self._norms[spectral] = table
+        return self._norms[spectral]
+
+    def pillar_bound(self, change_norms: np.ndarray, spectral: bool = False) -> np.ndarray:
+        """b_g = sum_h N_(g-h) |x_h|_2 for the pillar norms ``change_norms`` of a change x and
+        the offset norms N of :meth:`remainder_norms`: |((K - Ka) x)_g|_2 <= b_g on every pillar
+        g (one FFT convolution on the lattice)."""
+        from scipy.signal import fftconvolve
+
+        lat = self.couplings.lattice
+        ny, nx = lat.shape
+        grid = np.zeros((ny, nx))
+        grid[lat.ib, lat.ia] = change_norms
+        full = fftconvolve(grid, self.remainder_norms(spectral), mode="full")
+        return np.maximum(full[ny - 1 + lat.ib, nx - 1 + lat.ia], 0.0)
 
     def add_point_loads(self, u: np.ndarray, idx: np.ndarray, vals: np.ndarray,
                         exact: bool = False) -> bool:

@@ -79,7 +79,7 @@ class ReportData:
     seed_limits: list = field(default_factory=list)
     #: (n_side, phi, tip) of the brush read (:func:`campaign_brush`)
     brush: tuple = (None, math.nan, "")
-    #: the scene's ``solver.far_field`` (:func:`campaign_far_field`; "multipole" is uncertified)
+    #: the scene's ``solver.far_field`` (:func:`campaign_far_field`; "multipole": events uncertified)
     far_field: str = "exact"
     #: every other line the page says once, below the tables (:func:`.headline.notes`)
     notes: list = field(default_factory=list)
