@@ -44,6 +44,7 @@ iterations: a state's solve costs no FFT of the element grid between refreshes.
 from __future__ import annotations
 
 import numpy as np
+import scipy.fft as sfft
 
 from ..elastic.greens import love
 from .lattice import LatticeCouplings, PillarLattice
@@ -105,6 +106,7 @@ class MultipoleField:
         self._sum = np.zeros(g.n_active)
         self.applications = 0
         self._norms = {}            # remainder_norms() by kind, once asked for
+        self._norms_hat = {}        # their transforms (pillar_bound)
 
     # the reference operator's attributes that other parts read (tests, certificates, cascades)
     @property
@@ -188,14 +190,18 @@ class MultipoleField:
     def pillar_bound(self, change_norms: np.ndarray, spectral: bool = False) -> np.ndarray:
         """b_g = sum_h N_(g-h) |x_h|_2 for the pillar norms ``change_norms`` of a change x and
         the offset norms N of :meth:`remainder_norms`: |((K - Ka) x)_g|_2 <= b_g on every pillar
-        g (one FFT convolution on the lattice)."""
-        from scipy.signal import fftconvolve
-
+        g (one FFT convolution on the lattice, the table's transform kept)."""
         lat = self.couplings.lattice
         ny, nx = lat.shape
+        if spectral not in self._norms_hat:
+            shape = (sfft.next_fast_len(3 * ny - 2, real=True),
+                     sfft.next_fast_len(3 * nx - 2, real=True))
+            self._norms_hat[spectral] = (shape, sfft.rfft2(self.remainder_norms(spectral),
+                                                           s=shape))
+        shape, hat = self._norms_hat[spectral]
         grid = np.zeros((ny, nx))
         grid[lat.ib, lat.ia] = change_norms
-        full = fftconvolve(grid, self.remainder_norms(spectral), mode="full")
+        full = sfft.irfft2(sfft.rfft2(grid, s=shape) * hat, s=shape)
         return np.maximum(full[ny - 1 + lat.ib, nx - 1 + lat.ia], 0.0)
 
     def add_point_loads(self, u: np.ndarray, idx: np.ndarray, vals: np.ndarray,
