@@ -1,6 +1,7 @@
 """The issue's corner grid under ``confirm: global`` (the reference) and a faster path
-(``--path local``: ``confirm: local``; ``--path multipole``: ``far_field: multipole``), scene by
-scene, with the curves compared point by point.
+(``--path local``: ``confirm: local``; ``--path multipole``: ``far_field: multipole``;
+``--path multipole-bound``: the same with ``far_refresh`` 10^6, so that only the held states'
+force bound asks for exact products), scene by scene, with the curves compared point by point.
 
     python benchmarks/confirm_grid.py run --out DIR [--sides 18 36] [--presets fast default]
                                           [--jobs N] [--max-wall-s S] [--path multipole]
@@ -38,7 +39,9 @@ SIGMA_CORNERS = (0.01, 0.1, 0.5, 2.1)
 #: relative CPU of one run by (n_side, preset), to start the dearest first (rough, measured here)
 _WEIGHT = {(18, "fast"): 1, (18, "default"): 3, (36, "fast"): 8, (36, "default"): 25}
 #: the solver options of each path (``global`` is the reference)
-PATHS = {"global": {}, "local": {"confirm": "local"}, "multipole": {"far_field": "multipole"}}
+PATHS = {"global": {}, "local": {"confirm": "local"}, "multipole": {"far_field": "multipole"},
+         # the held states refreshed where their force bound asks only (path/confirm.py)
+         "multipole-bound": {"far_field": "multipole", "far_refresh": 10**6}}
 
 
 def _name(n, preset, k, s, confirm) -> str:
@@ -137,7 +140,9 @@ def cmd_table(a) -> int:
                "cpu_ref": float(ref["cpu_s"]), "cpu_local": float(new["cpu_s"]),
                "events_ref": int(ref["events"]), "events_local": int(new["events"]),
                "confirmed_local": int(new["confirmed_local"]),
-               "force_bound": float(new["force_bound"])}
+               "force_bound": float(new["force_bound"]),
+               **{k: int(new[k]) if k in new else 0          # far_field: multipole's states
+                  for k in ("held_certified", "held_refreshes", "held_uncertified")}}
         row["pair_ratio"] = row["pairs_local"] / max(row["pairs_ref"], 1)
         row["cpu_ratio"] = row["cpu_local"] / max(row["cpu_ref"], 1e-9)
         rows.append(row)
