@@ -48,6 +48,29 @@ def test_the_table_is_zero_on_the_own_block_and_symmetric(brush):
     assert table[ny - 1, -1] < 0.2 * table[ny - 1, nx]
 
 
+@pytest.mark.parametrize("n", [4, 6])
+def test_on_a_hexagonal_lattice_every_pillar_pair_is_bounded(n):
+    """A hexagonal lattice is stored as a checkerboard, whose corners tie: offsets seen from no
+    corner are seen as -s from the opposite one (R_-s = R_s^T); each pillar within its bound."""
+    model = build_scene_model(scene(n_side=n, lattice="hexagonal"))
+    op, g = model.operator, model.geometry
+    ng, m = g.n_groups, op.footprint
+    rng = np.random.default_rng(n)
+    for _ in range(4):
+        x = rng.standard_normal(g.n_active)
+        e = np.linalg.norm(remainder(op, x).reshape(ng, m), axis=1)
+        b = op.pillar_bound(np.linalg.norm(x.reshape(ng, m), axis=1))
+        assert np.all(e <= b * (1 + 1e-9))
+        for one in rng.choice(ng, 3, replace=False):      # one pillar's change alone
+            y = np.zeros_like(x)
+            y[one * m:(one + 1) * m] = x[one * m:(one + 1) * m]
+            e1 = np.linalg.norm(remainder(op, y).reshape(ng, m), axis=1)
+            b1 = op.pillar_bound(np.linalg.norm(y.reshape(ng, m), axis=1))
+            floor = 1e-12 * np.abs(op.exact.apply(y, np.empty_like(y))).max()   # rounding
+            assert np.all(e1 <= b1 * (1 + 1e-9) + floor)
+            assert np.count_nonzero(b1 > 1e-9 * b1.max()) == ng - 1     # every other pillar
+
+
 def test_the_path_s_table_is_the_frobenius_norms_a_little_above_the_spectral(brush):
     op, _, _, table = brush
     fro = op.remainder_norms()

@@ -145,9 +145,10 @@ class SolverOptions:
         that ends a relaxation exceeds ``confirm_tol``; the direction's solves stay exact:
         :mod:`fibril_hpc.solve.farfield`, :mod:`fibril_hpc.path.confirm`). 0.48-0.59 x the
         reference's CPU (medians over the 18 x 18 and 36 x 36 corner scenes, two runs side by
-        side on a 16-core machine). Every recorded state's force is certified within
-        ``confirm_tol`` of the exact state on its contact set; which element lets go when is
-        not, so F~_A is measured against the reference (docs/model.md §6). Needs pillars of
+        side on a 16-core machine). Under displacement control the force of every state that
+        ends a relaxation is certified within ``confirm_tol`` of the exact state on its contact
+        set; which element lets go when is not, so F~_A is not certified and is measured
+        against the reference (docs/model.md §6). Needs pillars of
         one footprint on a lattice and ``confirm: global``; the local cascade is not used with
         it. Stored in the scene text, and part of job keys, only off its default.
     far_refresh : int

@@ -25,12 +25,13 @@ it every ``refresh_every`` solves of the state. Between two refreshes the state'
 field of the last refresh plus Ka times what changed since, and its solves converge to the state
 of that held field, not of K: the error is e = (K - Ka)(p - p0), p0 the pressure of the last
 refresh. Between two pillars K - Ka is a block R_s that depends only on their lattice offset s
-(R_0 = 0), so :meth:`MultipoleField.pillar_bound` bounds e pillar by pillar by the offset norms
-|R_s|_2 (:meth:`MultipoleField.remainder_norms`, computed once) convolved with the pillars'
-changes; with it, and with p1 . e = w . (p - p0) for w = (K - Ka) p1 (K and Ka are symmetric),
-the load path certifies the force of the state that ends each relaxation and refreshes where
-that bound exceeds ``confirm_tol`` (:mod:`fibril_hpc.path.confirm`). Which elements flip is not
-bounded. The direction's solves (p1 = A^-1 1_S, which carries the force along a
+(R_0 = 0), so :meth:`MultipoleField.pillar_bound` bounds e pillar by pillar by the offset
+norms (:meth:`MultipoleField.remainder_norms`, Frobenius norms >= |R_s|_2, computed once)
+convolved with the pillars' changes; with it, and with p1 . e = w . (p - p0) for
+w = (K - Ka) p1 (K and Ka are symmetric), the load path certifies the force of the state that
+ends each relaxation and refreshes where that bound exceeds ``confirm_tol``
+(:mod:`fibril_hpc.path.confirm`; under displacement control). Which elements flip is not
+bounded, so neither is F~_A. The direction's solves (p1 = A^-1 1_S, which carries the force along a
 segment and places the next event) stay exact: solved with Ka too they moved F~_A by up to 0.9 %
 on small brushes, the held states by at most 0.14 % (benchmarks/NOTES.md, "The far field as
 pillar moments"). ``solver.confirm: local``, whose certificate needs an exact u, does not combine
@@ -154,8 +155,9 @@ class MultipoleField:
         own block, exact: 0): the Frobenius norms (memory and time O(footprint x elements)), or
         with ``spectral`` the 2-norms themselves (an SVD per pillar and footprint-squared
         memory per pillar: studies and tests). Computed once per kind, exactly: the columns of K
-        (direct sums) and of Ka of the four corner pillars' elements, from which every offset
-        of the brush is seen."""
+        (direct sums) and of Ka of the four corner pillars' elements; an offset is seen from a
+        corner or, as -s (R_-s = R_s^T), from the opposite one; checked against the offsets the
+        brush's pillar pairs have (ValueError where one is missing)."""
         if spectral not in self._norms:
             lat = self.couplings.lattice
             ng, m = self._q.shape[0], self.footprint
@@ -183,7 +185,19 @@ class MultipoleField:
                 norms = np.linalg.norm(R, 2, axis=(1, 2)) if spectral else np.sqrt(fro2)
                 db, da = ib - ib[c] + ny - 1, ia - ia[c] + nx - 1
                 table[db, da] = np.maximum(table[db, da], norms)
+            # R_-s = R_s^T has the same norms: offsets seen from no corner (a hexagonal
+            # lattice's checkerboard ties its corners) are seen from the opposite one
+            table = np.maximum(table, table[::-1, ::-1])
             table[ny - 1, nx - 1] = 0.0
+            occ = np.zeros((ny, nx))
+            occ[ib, ia] = 1.0
+            shape = (2 * ny - 1, 2 * nx - 1)
+            pairs = sfft.irfft2(sfft.rfft2(occ, s=shape) * np.conj(sfft.rfft2(occ, s=shape)),
+                                s=shape)
+            pairs = np.roll(pairs, (ny - 1, nx - 1), axis=(0, 1))  # offset (0, 0) at the centre
+            pairs[ny - 1, nx - 1] = 0.0
+            if np.any((pairs > 0.5) & (table == 0.0)):
+                raise ValueError("the remainder's table misses offsets of the brush")
             self._norms[spectral] = table
         return self._norms[spectral]
 
