@@ -64,8 +64,8 @@ class ConfirmMixin:
         most the pillar bound of :meth:`~fibril_hpc.solve.farfield.MultipoleField.pillar_bound`:
         kept where the certified force bound (:meth:`ForceCertificate.held_bound`) is within
         ``confirm_tol``; else the field is made exact by the next solve (the caller goes on).
-        A state still above it after two refreshes is kept and counted (``held_uncertified``;
-        never seen in the measurements of benchmarks/NOTES.md)."""
+        A state still above it after two refreshes in one relaxation is kept and counted
+        (``held_uncertified``; never seen in the measurements of benchmarks/NOTES.md)."""
         op, check = self.model.operator, self.held_check
         self.solve_direction()          # exact, on this set: the caller's (fresh below)
         op.apply_increment(self.p1, self._w)

@@ -168,6 +168,7 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
         """
         m = self.model
         self.relaxations += 1
+        self._held_refreshes = 0        # refreshes the held states' bound asked for here
         np.subtract(self.d, self.z0, out=self._b)
         loose = max(m.options.relax_tol, m.options.cg_tol)
         tight = True
