@@ -200,3 +200,20 @@ def test_a_lookahead_puts_p0_back_and_a_snapshot_carries_it():
     assert snap.p0 is not None and np.any(snap.p0 != before)
     driver.restore(snap)
     assert np.array_equal(driver.p0, snap.p0)
+
+
+def test_the_cost_benchmark_runs_both_forms_and_writes_its_table(tmp_path, capsys):
+    from benchmarks import held_check_cost
+
+    assert held_check_cost.main(["--sides", "5", "--presets", "fast", "--repeats", "1",
+                                 "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "CPU ratio median" in out
+    import csv
+    import glob
+
+    (path,) = glob.glob(str(tmp_path / "held-check-cost-*.csv"))
+    with open(path, encoding="utf-8") as fh:
+        (row,) = list(csv.DictReader(fh))
+    assert int(row["held_certified"]) > 0 and row["pairs_on"] == row["pairs_off"]
+    assert float(row["F_A_on"]) == float(row["F_A_off"])      # no refresh asked for here
