@@ -10,6 +10,7 @@ import signal
 import sys
 import threading
 
+from .. import stops as _stops
 from ..errors import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE
 
 __all__ = ["Parser", "error", "setup_logging", "memory_guard", "pipe_safe", "interruptible",
@@ -143,34 +144,10 @@ class Stopped(KeyboardInterrupt):
         self.signum = signum
 
 
-_LLVMLITE = f"{os.sep}llvmlite{os.sep}"
-
-
-def _unsafe(frame) -> bool:
-    """Whether an exception raised in ``frame`` could come out as another one or corrupt what
-    runs below it: inside Python's import machinery (a module body, a class body created while
-    importing), or in llvmlite's Python code (callbacks that LLVM calls while numba compiles and
-    caches a kernel: one aborted there leaves numba without its compiled object, and a later
-    "RuntimeError: no compiled object yet" or a crash)."""
-    if _LLVMLITE in frame.f_code.co_filename:
-        return True
-    while frame is not None:
-        if frame.f_code.co_filename.startswith("<frozen importlib"):
-            return True
-        frame = frame.f_back
-    return False
-
-
 #: how long a stop signal that lands where raising is unsafe waits to be sent again (seconds)
-UNSAFE_RETRY_S = 0.05
-
-
-def _send_again(signum: int, delay: float) -> None:
-    """Send stop signal ``signum`` to this process again after ``delay`` seconds, from a
-    short-lived thread (sent from a handler, it would be handled inside that handler)."""
-    again = threading.Timer(delay, os.kill, (os.getpid(), signum))
-    again.daemon = True
-    again.start()
+UNSAFE_RETRY_S = _stops.UNSAFE_RETRY_S
+_unsafe = _stops.unsafe
+_send_again = _stops.send_again
 
 
 def _raise_stopped(signum, frame):
@@ -184,6 +161,11 @@ def _raise_stopped(signum, frame):
         _send_again(signum, UNSAFE_RETRY_S)
         return
     raise Stopped(signum)
+
+
+def _dropped(unraisable) -> None:
+    """A ``sys.unraisablehook`` for a command that was stopped: destructor errors of objects
+    cut off mid-construction are not reported (the command has said it was interrupted)."""
 
 
 def _redeliver(previous):
@@ -230,15 +212,21 @@ def interruptible(prog: str, what: str, code: int | None = None):
             old_hook = sys.unraisablehook
             if old:
                 sys.unraisablehook = _redeliver(old_hook)
+            stopped = False
             try:
                 return main(*args, **kwargs)
             except KeyboardInterrupt as exc:
+                stopped = True
+                # objects the signal cut off mid-construction (numba's compiler: an llvmlite
+                # pass builder) fail in their destructors as the command ends; their "Exception
+                # ignored" tracebacks would follow the one line: dropped from here on
+                sys.unraisablehook = _dropped
                 signum = getattr(exc, "signum", signal.SIGINT)
                 print(one_line(f"{prog}: interrupted ({signal.Signals(signum).name}); {what}"),
                       file=sys.stderr)
                 return stop_status(signum, code)
             finally:
-                sys.unraisablehook = old_hook
+                sys.unraisablehook = _dropped if stopped else old_hook
                 _restore(old)
         return guarded
     return wrap

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import signal
 
+from ...stops import UNSAFE_RETRY_S, send_again, unsafe
+
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT, signal.SIGUSR1)
 
 
@@ -19,7 +21,8 @@ class StopFlag:
     """Handlers for the stop signals that set :attr:`stop`.
 
     While :attr:`busy` (a job is computing) the handler raises :class:`Interrupted`, so that the
-    job is abandoned at once. Use :meth:`install` and :meth:`restore` around a run.
+    job is abandoned at once (where raising is unsafe, :func:`fibril_hpc.stops.unsafe`, the
+    signal is sent again a moment later). Use :meth:`install` and :meth:`restore` around a run.
     """
 
     def __init__(self):
@@ -28,10 +31,15 @@ class StopFlag:
         self.busy = False
         self._old = {}
 
-    def _handler(self, signum, frame):  # noqa: ARG002
+    def _handler(self, signum, frame):
         self.stop = True
         self.signum = signum
         if self.busy:
+            if frame is not None and unsafe(frame):
+                # inside numba's compiler (an llvmlite callback) or an import, an exception is
+                # swallowed or corrupts what runs below: the signal comes again shortly
+                send_again(signum, UNSAFE_RETRY_S)
+                return
             self.busy = False
             raise Interrupted(f"signal {signal.Signals(signum).name}")
 
