@@ -226,7 +226,10 @@ def interruptible(prog: str, what: str, code: int | None = None):
                       file=sys.stderr)
                 return stop_status(signum, code)
             finally:
-                sys.unraisablehook = _dropped if stopped else old_hook
+                # for the rest of a stopped command's process; a host with a hook of its own
+                # (an embedding program, a test runner) gets it back
+                ending = stopped and old_hook is sys.__unraisablehook__
+                sys.unraisablehook = _dropped if ending else old_hook
                 _restore(old)
         return guarded
     return wrap
