@@ -69,7 +69,8 @@ def test_json_contents(quick):
     assert "error" not in mem, mem
     assert mem["peak_growth_MB"] > 0 and mem["arrays"]["fft_buffers"]["count"] == 8
     vec = mem["arrays"]["active_length_float_vectors"]
-    assert 13 <= vec["count"] <= 16 and vec["bytes"] == 8 * mem["n_active"] * vec["count"]
+    # 17 since the load path keeps p0 and w (far_field: multipole's held states)
+    assert 13 <= vec["count"] <= 18 and vec["bytes"] == 8 * mem["n_active"] * vec["count"]
     camp = res["campaign"]["modes"]
     assert camp[0]["mode"] == "serial" and camp[0]["jobs"] > 0
     assert camp[0]["jobs_per_hour_median"] > 0
