@@ -223,10 +223,10 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
         if since < (op.exact_refresh_every if exact else op.refresh_every):
             idx = np.flatnonzero(x != x_ref)
             valid = op.add_point_loads(u, idx, x[idx] - x_ref[idx], exact=exact)
-            if u is self.u and len(idx) <= op.max_direct:
+            if self.held_check is not None and u is self.u and len(idx) <= op.max_direct:
                 self.p0[idx] += x[idx] - x_ref[idx]     # a direct sum: exact (multipole)
         setattr(self, name, since + 1 if valid else 0)
-        if not valid and u is self.u:
+        if self.held_check is not None and not valid and u is self.u:
             self.p0[:] = x              # the solver's first product is exact
         its = self.model.solver.solve(self.att, b, x, u, tol, u_valid=valid, exact=exact)
         x_ref[:] = x
@@ -266,7 +266,8 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
         self.d += s
         self.p += s * self.p1
         self.p_ref += s * self.p1_ref
-        self.p0 += s * self.p1_ref          # u1 = K p1_ref exactly
+        if self.held_check is not None:
+            self.p0 += s * self.p1_ref      # u1 = K p1_ref exactly
         self.u += s * self.u1
         self.f += s * self.f1
         self.g += s * self.g1
