@@ -103,7 +103,7 @@ class HalfSpace:
     #: ``refresh_every`` incrementally kept solves only guards against rounding drift (as
     #: after ``exact_refresh_every`` exact solves under an approximate operator)
     exact_increments = True
-    refresh_every = exact_refresh_every = 64
+    refresh_every = exact_refresh_every = loading_refresh_every = 64
 
     def dense(self) -> np.ndarray:
         """Dense influence matrix on the active elements (small grids, tests only)."""

@@ -140,9 +140,10 @@ class SolverOptions:
         How CG applies the half-space in the states' solves between two exact products:
         ``"exact"`` (default, the reference: every iteration is one FFT pair of the element
         grid) or ``"multipole"`` (each pillar's own block exact, every other pillar through its
-        force and two tilts, by FFT on the pillar lattice; the state's field is made exact
-        after every ``far_refresh`` held solves, and sooner where the force bound of a state
-        that ends a relaxation exceeds ``confirm_tol``; the direction's solves stay exact:
+        force and two tilts, by FFT on the pillar lattice; while unloading the state's field is
+        made exact after every ``far_refresh`` held solves, and sooner where the force bound of
+        a state that ends a relaxation exceeds ``confirm_tol``; while loading after every 2 at
+        most; the direction's solves stay exact:
         :mod:`fibril_hpc.solve.farfield`, :mod:`fibril_hpc.path.confirm`). 0.48-0.59 x the
         reference's CPU (medians over the 18 x 18 and 36 x 36 corner scenes, two runs side by
         side on a 16-core machine). Under displacement control the force of every state that
@@ -152,9 +153,10 @@ class SolverOptions:
         one footprint on a lattice and ``confirm: global``; the local cascade is not used with
         it. Stored in the scene text, and part of job keys, only off its default.
     far_refresh : int
-        Solves of the state held with the moments between two exact products under
-        ``far_field: multipole`` (one exact product per ``far_refresh`` + 1 state solves at
-        most: the states' force bound asks for one sooner where it exceeds ``confirm_tol``; CG
+        Solves of the state held with the moments between two exact products while unloading
+        under ``far_field: multipole`` (one exact product per ``far_refresh`` + 1 state solves
+        at most: the states' force bound asks for one sooner where it exceeds ``confirm_tol``;
+        while loading after 2 at most; CG
         iterates with the moments right after a refresh too, so no value reproduces the
         reference; a larger value left to the bound alone moves the contact events and F~_A,
         benchmarks/NOTES.md). Range [1, 1e6]. Default 4. Stored in the scene text, and part of

@@ -220,7 +220,13 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
         name = "_since_full" if op.exact_increments or x_ref is self.p_ref else "_since_full1"
         since = getattr(self, name)
         valid = False
-        if since < (op.exact_refresh_every if exact else op.refresh_every):
+        if exact:
+            every = op.exact_refresh_every
+        elif self.phase == "loading":
+            every = op.loading_refresh_every     # multipole: fewer held solves (farfield.py)
+        else:
+            every = op.refresh_every
+        if since < every:
             idx = np.flatnonzero(x != x_ref)
             valid = op.add_point_loads(u, idx, x[idx] - x_ref[idx], exact=exact)
             if self.held_check is not None and u is self.u and len(idx) <= op.max_direct:
