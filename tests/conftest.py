@@ -4,7 +4,17 @@ import pytest
 
 os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(os.path.dirname(__file__), "..", ".numba_cache"))
 
+from hypothesis import settings  # noqa: E402
+
 from fibril_hpc.inputs.options import SolverOptions  # noqa: E402
+
+# Property tests draw the same examples on every run ("repeatable", the default): a red run can
+# be rerun and debugged, and no new draw decides whether a submission lands. Fresh draws, to
+# look for new failing cases, are one environment variable away:
+#   HYPOTHESIS_PROFILE=explore pytest -q tests/test_hard_cases.py
+settings.register_profile("repeatable", derandomize=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
 
 @pytest.fixture
