@@ -72,14 +72,15 @@ CONFIRM_LOCAL_PAIRS = {"fast": 0.84, "default": 0.75}
 CONFIRM_LOCAL_CPU_PER_PAIR = 1.14
 #: FFT pairs of a ``far_field: multipole`` path over the reference path's, per preset, and its
 #: CPU per pair over the reference's, per preset (the moment products and the lattice level's
-#: inner solves, which no pair counts): the summed ratios of the same corner grid run with it
-#: (both paths side by side, 15 processes on a lent 16-core machine;
-#: benchmarks/results/confirm-grid-multipole/confirm_grid-exact-directions-device.csv): pairs
-#: 0.544 (`default`) and 0.484 (`fast`), CPU 0.559 and 0.546, so 1.03 and 1.13 x the pair ratio
-#: (an identical second run of the moments' path in the same call gives 1.05 and 1.14;
-#: benchmarks/NOTES.md, "The certified stop of a direction, measured side by side and taken
-#: out"). `accurate`: not measured, priced as the reference path.
-MULTIPOLE_PAIRS = {"fast": 0.48, "default": 0.54}
+#: inner solves, which no pair counts): the summed ratios of the same corner grid run with it.
+#: Pairs 0.558 (`default`) and 0.498 (`fast`), with the loading's states held for 2 solves
+#: (benchmarks/results/confirm-grid-multipole/confirm_grid-loading2.csv; 0.544 and 0.484
+#: before). CPU per pair from the grid run with both paths side by side, 15 processes on a lent
+#: 16-core machine, before that count (confirm_grid-exact-directions-device.csv): CPU 0.559 and
+#: 0.546, so 1.03 and 1.13 x the pair ratio (an identical second run of the moments' path in
+#: the same call gives 1.05 and 1.14; benchmarks/NOTES.md, "The certified stop of a direction,
+#: measured side by side and taken out"). `accurate`: not measured, priced as the reference.
+MULTIPOLE_PAIRS = {"fast": 0.50, "default": 0.56}
 MULTIPOLE_CPU_PER_PAIR = {"fast": 1.13, "default": 1.03}
 #: the brush the constants above were fitted on (18 x 18 pillars), and how a task's pairs grow
 #: with the pillar count N_p away from it, per preset: ~ N_p^SIZE_GROWTH[p][0] below,
