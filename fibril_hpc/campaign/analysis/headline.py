@@ -124,8 +124,10 @@ def _cautions(d) -> list:
         out.append("its jobs were solved with solver.far_field: multipole, whose contact "
                    "events are not certified, so F̃_A is not (each relaxed state's force is, "
                    "within confirm_tol of the exact state on its set; on the 18 × 18 and "
-                   "36 × 36 corner scenes F̃_A within 9e-5 relative at preset default, up to "
-                   "1.6 % at fast; docs/model.md §6): no interval here includes that")
+                   "36 × 36 corner scenes at F̃_P = 4, F̃_A within 9e-5 relative at preset "
+                   "default, up to 1.6 % at fast; on paper.yaml's smooth corners at small "
+                   "preloads up to 0.23 % at default and 0.71 % at fast; docs/model.md §6): "
+                   "no interval here includes that")
     unsure = [k for k, st in d.studies.items() if st.loss_kind == _loss.BRACKET
               and st.loss.uncertain]
     if unsure:
