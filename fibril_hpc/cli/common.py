@@ -144,21 +144,16 @@ class Stopped(KeyboardInterrupt):
         self.signum = signum
 
 
-#: how long a stop signal that lands where raising is unsafe waits to be sent again (seconds)
-UNSAFE_RETRY_S = _stops.UNSAFE_RETRY_S
-_unsafe = _stops.unsafe
-_send_again = _stops.send_again
-
-
 def _raise_stopped(signum, frame):
-    """The guard's handler: raise :class:`Stopped`, except where that is unsafe (:func:`_unsafe`):
+    """The guard's handler: raise :class:`Stopped`, except where that is unsafe
+    (:func:`fibril_hpc.stops.unsafe`):
     inside an import an exception can come out as another one (Python 3.11 turns it into
     "RuntimeError: Error calling __set_name__" in a class body that uses a descriptor) or not
     at all, and in llvmlite's callbacks it breaks numba's compiler. There the signal is sent
-    again after :data:`UNSAFE_RETRY_S`; a command imports its heavy libraries (numba, h5py,
-    pyFFTW) lazily, and numba compiles on first use, inside its guard."""
-    if frame is not None and _unsafe(frame):
-        _send_again(signum, UNSAFE_RETRY_S)
+    again after :data:`fibril_hpc.stops.UNSAFE_RETRY_S`; a command imports its heavy
+    libraries (numba, h5py, pyFFTW) lazily, and numba compiles on first use, inside its guard."""
+    if frame is not None and _stops.unsafe(frame):
+        _stops.send_again(signum, _stops.UNSAFE_RETRY_S)
         return
     raise Stopped(signum)
 
@@ -180,7 +175,7 @@ def _redeliver(previous):
     def hook(unraisable):
         exc = unraisable.exc_value
         if isinstance(exc, Stopped):
-            _send_again(exc.signum, 0.01)
+            _stops.send_again(exc.signum, 0.01)
             return
         previous(unraisable)
     return hook

@@ -213,7 +213,8 @@ class PathDriver(SnapshotMixin, ConfirmMixin):
 
     def _solve(self, b, x, u, x_ref, tol=None, exact=False) -> int:
         """Solve on the current set, keeping u = K x valid without a full product (one FFT
-        pair) until the operator's ``refresh_every`` incrementally kept solves of the field.
+        pair) until the operator's ``refresh_every`` incrementally kept solves of the field
+        (``loading_refresh_every`` while loading).
         ``exact``: iterate with the exact product, u kept exact (under ``far_field:
         multipole`` the direction's solve, whose field then counts on its own)."""
         op = self.model.operator
