@@ -3,6 +3,7 @@
     python benchmarks/pillar_scale.py --out /tmp/pillar-scale                # 6 ... 36
     python benchmarks/pillar_scale.py --out /tmp/pillar-scale --sides 6 12 18 --ranks 1
     python benchmarks/pillar_scale.py --out DIR --sides 100 --sigma 0.1 --preloads 4 16
+    python benchmarks/pillar_scale.py --out DIR --sides 100 --sigma 0.5 --far-field multipole
 
 The model's variables are measured against the whole brush (docs/model.md §2): at fixed k~ and
 sigma~ a brush of more pillars is a brush of smaller pillars, rougher and stiffer-springed at the
@@ -46,9 +47,9 @@ from benchmarks.common import write_results  # noqa: E402
 
 
 def grid_of(n: int, ks, sigmas, ref: int, seeds: int, preset: str, phi: float,
-            preloads=None) -> dict:
+            preloads=None, far_field: str = "exact") -> dict:
     """The campaign grid of the n x n brush of the reference pillars (``F_P: auto``, or the
-    fixed ``preloads``)."""
+    fixed ``preloads``; ``far_field: multipole`` where asked, the reference otherwise)."""
     grid = {
         "description": f"pillar-scale finite size: n_side {n}, the pillars of the {ref} x {ref} "
                        f"brush (k~ x {ref}/{n}, sigma~ x sqrt({ref}/{n}))",
@@ -60,6 +61,9 @@ def grid_of(n: int, ks, sigmas, ref: int, seeds: int, preset: str, phi: float,
         "F_P": "auto",
         "seeds": seeds,
     }
+    if far_field != "exact":
+        grid["scene"]["solver"]["far_field"] = far_field
+        grid["description"] += f"; solver.far_field {far_field}"
     if preloads:
         grid["F_P"] = [float(x) for x in preloads]
         grid["description"] += ("; plateau preloads only (F~_P "
@@ -108,6 +112,8 @@ def main(argv=None) -> int:
     ap.add_argument("--preloads", type=float, nargs="+", default=None,
                     help="fixed F~_P instead of F_P: auto (on the plateau: the report reads it "
                          "from these alone; 100 x 100 ran 4 16)")
+    ap.add_argument("--far-field", choices=["exact", "multipole"], default="exact",
+                    help="solver.far_field of every brush (exact: the reference)")
     a = ap.parse_args(argv)
     from fibril_hpc.geometry.grid import Lattice
     from fibril_hpc.inputs.presets import preset_values
@@ -116,7 +122,8 @@ def main(argv=None) -> int:
     epd = preset_values(a.preset)["elements_per_diameter"]
     rows = []
     for n in a.sides:
-        grid = grid_of(n, a.k, a.sigma, a.reference, a.seeds, a.preset, a.phi, a.preloads)
+        grid = grid_of(n, a.k, a.sigma, a.reference, a.seeds, a.preset, a.phi, a.preloads,
+                       a.far_field)
         got = plateau_rows(run_size(a.out, n, grid, a.ranks))
         phi_d = Lattice.of(n, a.phi, epd, "square").phi_discrete
         norm = (n * n * phi_d) ** 0.25
@@ -150,7 +157,8 @@ def main(argv=None) -> int:
             print(f"{k_ref:>6g} {s_ref:>6g} " + " ".join(f"{c:>26}" for c in cells))
     write_results(os.path.join(HERE, "results"), "pillar-scale", rows,
                   {"meta": {"command": " ".join(sys.argv), "reference": a.reference,
-                            "preset": a.preset, "seeds": a.seeds}})
+                            "preset": a.preset, "seeds": a.seeds,
+                            "far_field": a.far_field}})
     return 0
 
 
