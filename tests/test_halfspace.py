@@ -97,13 +97,20 @@ def test_work_arrays_are_the_owned_buffers(geom):
     op = HalfSpace(geom, threads=1)
     bufs = op.pair.work_arrays()
     assert "rows" not in bufs and all(isinstance(a, np.ndarray) for a in bufs.values())
-    # real_in/out, the row spectra (2), one column lane's three block buffers
-    assert len(bufs) == 7 and bufs["real_in"] is op.pair.real_in
+    # real_in/out, the row spectra (one buffer: the column stage works in place in it), one
+    # column lane's three block buffers; the kernel cut into column blocks after a product
+    assert len(bufs) == 6 and bufs["real_in"] is op.pair.real_in
+    assert op.pair._rows_back is op.pair._rows_hat
     assert set(HalfSpace(geom, threads=3).pair.work_arrays()) - set(bufs) == {
         f"lane{i}_{k}" for i in (1, 2) for k in ("col_in", "col_hat", "col_out")}
     assert set(op.work_arrays()) == {"kernel_hat", "index"}
     table = op.table           # built lazily, on first use
     assert op.work_arrays()["table"] is table
+    p = np.ones(geom.n_active)
+    op.apply(p, np.empty_like(p))
+    blocks = op.pair.work_arrays()["_kernel_blocks"]
+    assert blocks.shape == (op.pair.n_blocks, op.m, len(bufs["lane0_col_in"][0]))
+    assert blocks.nbytes == 8 * op.m * op.pair.n_blocks * blocks.shape[2]     # not per (re, im)
 
 
 
@@ -122,3 +129,15 @@ def test_stages_run_in_order_are_the_product(geom):
         stage()
     got = pair.real_out.reshape(-1)[idx]
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-15 * np.abs(want).max())
+
+
+def test_the_direct_sums_table_is_built_in_blocks_as_one_array():
+    """The real-space table (built 256 rows at a time, no n x n temporaries) is Love's kernel on
+    every offset of a grid wider than one block (n = 340)."""
+    from fibril_hpc.elastic.greens import BUILD_BLOCK, love
+
+    g = build_pillar_grid(20, 0.16, 8, 0.0, 0).geometry
+    assert g.n > BUILD_BLOCK
+    off = np.arange(g.n) * g.h
+    np.testing.assert_array_equal(HalfSpace(g, threads=1).table,
+                                  love(off[:, None], off[None, :], g.h))

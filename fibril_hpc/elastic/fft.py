@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..kernels import compiled as kern
+
 _EFFORT = {"estimate": "FFTW_ESTIMATE", "measure": "FFTW_MEASURE", "patient": "FFTW_PATIENT"}
 
 #: columns per block of the column stage (measured on this machine, ``benchmarks/NOTES.md``:
@@ -75,7 +77,7 @@ class _Lane:
             cols = slice(i * b, (i + 1) * b)
             self.col_in[rows] = src[:, cols]
             self.p2.execute()
-            np.multiply(self.hat_ri, kernel_blocks[i], out=self.hat_ri)
+            kern.scale_block(self.hat_ri, kernel_blocks[i])
             self.p3.execute()
             dst[:, cols] = self.col_out[rows]
 
@@ -115,7 +117,9 @@ class FFTPair:
             z = pyfftw.zeros_aligned
             self.real_in = z((r, self.m), dtype=np.float64)
             self._rows_hat = z((r, wp), dtype=np.complex128)
-            self._rows_back = z((r, wp), dtype=np.complex128)
+            # the column stage writes each block's columns back where it read them, so the
+            # inverse row stage reads the same array (one R x m/2 complex buffer less)
+            self._rows_back = self._rows_hat
             self.real_out = z((r, self.m), dtype=np.float64)
             flags = (_EFFORT[planner],)
             # every plan is single-threaded: with fft_threads = T > 1 the pair's work is shared
@@ -128,7 +132,7 @@ class FFTPair:
             self._lanes = [_Lane(self, int(a), int(e), flags) for a, e in zip(cuts[:-1], cuts[1:])]
             self._pool = None
             # planning with MEASURE/PATIENT scribbles on the arrays: zero them afterwards
-            for a in (self.real_in, self._rows_hat, self._rows_back, self.real_out):
+            for a in (self.real_in, self._rows_hat, self.real_out):
                 a[...] = 0
         elif backend == "numpy":
             self.real_in = np.zeros((r, self.m))
@@ -139,9 +143,9 @@ class FFTPair:
 
     def work_arrays(self) -> dict:
         """The buffers this pair owns, by name (for read-only use, e.g. memory accounting): not
-        the caller's kernel transform (``_kernel_src``); the blocked real kernel copy
-        ``_kernel_blocks`` once it exists; each column lane's block buffers."""
-        skip = ("rows", "_kernel_src")
+        the caller's kernel transform (``_kernel_src``); its copy cut into the column blocks
+        (``_kernel_blocks``) once a product has made it; each column lane's block buffers."""
+        skip = ("rows", "_kernel_src", "_rows_back")     # _rows_back is _rows_hat
         out = {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k not in skip}
         for i, lane in enumerate(getattr(self, "_lanes", ())):
             out.update({f"lane{i}_{k}": v for k, v in lane.buffers().items()})
@@ -154,27 +158,32 @@ class FFTPair:
             raise ValueError("stages exist for the pyfftw backend only")
         return {
             "p1 r2c rows": self._rows_forward,
-            "column blocks": lambda: self._columns(self._real_kernel(kernel_hat)),
+            "column blocks": lambda: self._columns(self._blocked(kernel_hat)),
             "p4 c2r rows": self._rows_backward,
         }
 
-    def _real_kernel(self, kernel_hat: np.ndarray) -> np.ndarray:
-        """The real kernel transform cut into the column blocks and duplicated per (re, im),
-        shape (n_blocks, m, B, 2), made once per kernel (zero on the padding columns): a plain
-        contiguous float64 multiply per block, no complex copy of the kernel per call."""
+    def _blocked(self, kernel_hat: np.ndarray) -> np.ndarray:
+        """The real kernel transform cut into the column blocks, shape (n_blocks, m, B), made
+        once per kernel (zero on the padding columns), one block at a time: each block's
+        multiply reads a contiguous array, into the real and imaginary parts alike. (Read in
+        place from the (m, m/2 + 1) kernel, the pair was 15-20 % slower; duplicated per
+        (re, im) for a plain NumPy multiply, as before, it took twice the memory for the same
+        speed: benchmarks/NOTES.md, "The kernel transform built in blocks".)"""
         if self._kernel_src is not kernel_hat:
-            m, b = self.m, COLUMN_BLOCK
-            k = np.zeros((m, self.n_blocks * b))
-            k[:, :kernel_hat.shape[1]] = kernel_hat
-            k = k.reshape(m, self.n_blocks, b).transpose(1, 0, 2)
-            self._kernel_blocks = np.ascontiguousarray(np.repeat(k[..., None], 2, axis=3))
+            m, b, w = self.m, COLUMN_BLOCK, kernel_hat.shape[1]
+            self._kernel_blocks = None
+            blocks = np.zeros((self.n_blocks, m, b))
+            for i in range(self.n_blocks):
+                c = kernel_hat[:, i * b:min((i + 1) * b, w)]
+                blocks[i, :, :c.shape[1]] = c
+            self._kernel_blocks = blocks
             self._kernel_src = kernel_hat
         return self._kernel_blocks
 
     def _columns(self, kernel_blocks) -> None:
-        """The column stage, block by block: _rows_hat -> _rows_back. With several lanes the
-        blocks are split into contiguous runs, one per thread (the plans release the GIL); each
-        column's transform is the same either way."""
+        """The column stage, block by block, in place in _rows_hat (which is _rows_back). With
+        several lanes the blocks are split into contiguous runs, one per thread (the plans
+        release the GIL); each column's transform is the same either way."""
         lanes = self._lanes
         if len(lanes) == 1:
             lanes[0].run(self, kernel_blocks, 0, self.n_blocks)
@@ -222,7 +231,7 @@ class FFTPair:
         parts as float64 (no complex copy of the kernel per call)."""
         if self.backend == "pyfftw":
             self._rows_forward()
-            self._columns(self._real_kernel(kernel_hat))
+            self._columns(self._blocked(kernel_hat))
             self._rows_backward()
         else:
             self._padded[self.rows] = self.real_in

@@ -115,11 +115,37 @@ def wrapped_kernel(n: int, m: int, h: float, e_star=E_STAR) -> np.ndarray:
     return love(off[:, None], off[None, :], h, e_star)
 
 
-def kernel_spectrum(n: int, m: int, h: float, e_star=E_STAR) -> np.ndarray:
+#: rows (then columns) per block of the kernel transform's build (see :func:`kernel_spectrum`)
+BUILD_BLOCK = 256
+
+
+def kernel_spectrum(n: int, m: int, h: float, e_star=E_STAR, block: int = BUILD_BLOCK) -> np.ndarray:
     """Real transform of the wrapped kernel, divided by m*m (folds the unnormalised inverse FFT).
 
     Shape (m, m//2 + 1), float64 (the imaginary part is zero to rounding and is dropped).
+    Computed as ``np.fft.rfft2(wrapped_kernel(n, m, h)).real / (m * m)`` is, one 1-D transform
+    per row and then one per column, with the same numbers (each line's transform is the same;
+    tests/test_greens.py), but without the m x m kernel and its temporaries: the wrapped kernel's
+    rows i and m - i are the same, so only the m/2 + 1 distinct rows are evaluated (``block``
+    at a time) and transformed, and the columns are transformed ``block`` at a time from them.
+    The build peaks at those row spectra and the result, 16 bytes per m^2 in all, where the
+    whole-array transform took a dozen m x m temporaries (benchmarks/NOTES.md, "The kernel
+    transform built in blocks").
     """
-    k = wrapped_kernel(n, m, h, e_star)
-    spec = np.fft.rfft2(k)
-    return np.ascontiguousarray(spec.real / (m * m))
+    if m < 2 * n - 1:
+        raise ValueError(f"padded size {m} < 2n-1 = {2 * n - 1}")
+    w = m // 2 + 1
+    half = m // 2 + 1                       # distinct rows: 0 ... m // 2
+    off = np.arange(m) * h
+    off[half:] = off[1:m - half + 1][::-1]  # min(i, m - i) h
+    rows = np.empty((half, w), dtype=np.complex128)
+    for a in range(0, half, block):
+        e = min(a + block, half)
+        rows[a:e] = np.fft.rfft(love(off[a:e, None], off[None, :], h, e_star), axis=1)
+    mirror = np.minimum(np.arange(m), m - np.arange(m))     # row i is distinct row mirror[i]
+    out = np.empty((m, w))
+    for c in range(0, w, block):
+        out[:, c:c + block] = np.fft.fft(rows[mirror, c:c + block], axis=0).real
+    del rows
+    out /= m * m
+    return out

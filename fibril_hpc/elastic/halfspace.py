@@ -14,7 +14,7 @@ import numpy as np
 from ..geometry.scaling import E_STAR
 from ..kernels import compiled as kern
 from .fft import FFTPair
-from .greens import K00, kernel_spectrum, love, padded_size
+from .greens import BUILD_BLOCK, K00, kernel_spectrum, love, padded_size
 
 
 class HalfSpace:
@@ -66,8 +66,12 @@ class HalfSpace:
     def table(self) -> np.ndarray:
         """Real-space influence coefficients K[|dy|, |dx|] on the n x n offsets (built lazily)."""
         if self._table is None:
-            off = np.arange(self.geometry.n) * self.geometry.h
-            self._table = np.ascontiguousarray(love(off[:, None], off[None, :], self.geometry.h))
+            n, h = self.geometry.n, self.geometry.h
+            off = np.arange(n) * h
+            table = np.empty((n, n))
+            for a in range(0, n, BUILD_BLOCK):      # rows at a time: no n x n temporaries
+                table[a:a + BUILD_BLOCK] = love(off[a:a + BUILD_BLOCK, None], off[None, :], h)
+            self._table = table
         return self._table
 
     def add_point_loads(self, u: np.ndarray, idx: np.ndarray, vals: np.ndarray,

@@ -357,3 +357,14 @@ def lattice_gather(grid, ib, ia, blocks, v, use, out):
             s = grid[a, ib[g], ia[g]] + blocks[g, a, 0] * v[g, 0] + blocks[g, a, 1] * v[g, 1] \
                 + blocks[g, a, 2] * v[g, 2]
             out[g, a] = s * use[g, a]
+
+
+@jit
+def scale_block(hat_ri, kernel):
+    """hat_ri[j, c, :] *= kernel[j, c]: a complex (m, B) block, seen as its (m, B, 2) real
+    view, times a real (m, B) one (the real and imaginary parts alike)."""
+    for j in range(hat_ri.shape[0]):
+        for c in range(hat_ri.shape[1]):
+            s = kernel[j, c]
+            hat_ri[j, c, 0] *= s
+            hat_ri[j, c, 1] *= s

@@ -153,3 +153,7 @@ def spectral3(kern3, vh, out):
 
 def lattice_gather(grid, ib, ia, blocks, v, use, out):
     out[:] = use * (grid[:, ib, ia].T + np.einsum("gab,gb->ga", blocks, v))
+
+
+def scale_block(hat_ri, kernel):
+    hat_ri *= kernel[:, :, None]
