@@ -401,11 +401,11 @@ def fibril_run(args, capsys):
 def test_8_grid_too_big_is_one_line_everywhere(tmp_path, capsys, caplog):
     scene = _scene_yaml(tmp_path, n_side=200, elements_per_diameter=40)
     code, _, err = fibril_run([scene], capsys)
-    assert code == 2 and "at most 8192 elements per side" in one_line(err)
+    assert code == 2 and "at most 16384 elements per side" in one_line(err)
     grid = write_grid(tmp_path, scene={"n_side": 200, "elements_per_diameter": 40})
     for extra in ([], ["--dry-run"]):
         code, _, err = cli([grid, "--no-progress"] + extra, capsys, caplog)
-        assert code == 2 and "at most 8192 elements per side" in one_line(err)
+        assert code == 2 and "at most 16384 elements per side" in one_line(err)
     assert not os.path.exists(tmp_path / "tiny.h5")
 
 

@@ -176,34 +176,44 @@ def test_bad_lab_input_exit_2_nothing_written(tmp_path, capsys, content, field):
 
 
 def test_grid_limit_uses_the_scene_lattice(tmp_path, capsys):
-    # 7 800 elements per side on a square lattice (allowed) but 8 421 on the wider hexagonal one
+    # 15 600 elements per side on a square lattice (allowed) but 16 821 on the wider hexagonal one
     scene = tmp_path / "scene.yaml"
-    scene.write_text("n_side: 200\nphi: 0.05\nelements_per_diameter: 10\nlattice: hexagonal\n")
+    scene.write_text("n_side: 400\nphi: 0.05\nelements_per_diameter: 10\nlattice: hexagonal\n")
     out = tmp_path / "never.h5"
     assert run_main([str(scene), "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("fibril-run: error: elements_per_diameter")
-    assert "8421" in err[0] and not out.exists()
+    assert "16821" in err[0] and not out.exists()
     from fibril_hpc import Scene
     from fibril_hpc.inputs.limits import MAX_GRID_SIDE, memory_estimate
 
-    square = Scene(n_side=200, phi=0.05, elements_per_diameter=10, preset="fast")
-    assert memory_estimate(square)[1] == 7800 <= MAX_GRID_SIDE
+    square = Scene(n_side=400, phi=0.05, elements_per_diameter=10, preset="fast")
+    assert memory_estimate(square)[1] == 15600 <= MAX_GRID_SIDE
 
 
-def test_a_brush_of_a_million_pillars_is_told_what_its_grid_would_need(tmp_path, capsys):
-    """n_side 1000 at `fast` reaches the grid check (not the n_side range), whose one line says
-    what the padded FFT grid would need at the memory check's rate."""
-    from fibril_hpc.inputs.limits import BYTES_PER_FFT_ELEMENT
+def test_a_brush_of_a_million_pillars(tmp_path, capsys):
+    """n_side 1000 at `fast` passes the grid check (13 000 elements per side) and is the memory
+    check's to decide: refused in one line where its estimate exceeds what is available. At 12
+    elements per diameter the grid check refuses it, saying what the padded FFT grid would
+    need at the memory check's rate."""
+    from fibril_hpc import Scene
+    from fibril_hpc.errors import ConfigError
+    from fibril_hpc.inputs.limits import BYTES_PER_FFT_ELEMENT, check_memory, memory_estimate
 
+    fast = Scene(n_side=1000, preset="fast")
+    need, n, m = memory_estimate(fast)
+    assert (n, m) == (13000, 26880) and 16 * 2**30 < need < 24 * 2**30
+    with pytest.raises(ConfigError, match="n_side"):
+        check_memory(fast, available=need - 1, field="n_side")
+    assert check_memory(fast, available=need) == need
     scene = tmp_path / "scene.yaml"
-    scene.write_text("n_side: 1000\npreset: fast\n")
+    scene.write_text("n_side: 1000\nelements_per_diameter: 12\n")
     assert run_main([str(scene)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("fibril-run: error: elements_per_diameter")
-    need = BYTES_PER_FFT_ELEMENT * 26880**2 / 2**30
-    assert "gives 13000 for n_side=1000" in err[0] and "padded FFT grid of 26880 x 26880" in err[0]
-    assert f"about {need:.0f} GiB" in err[0] and round(need) == 27
+    need = BYTES_PER_FFT_ELEMENT * 54000**2 / 2**30
+    assert "gives 27000 for n_side=1000" in err[0] and "padded FFT grid of 54000 x 54000" in err[0]
+    assert f"about {need:.0f} GiB" in err[0]
 
 
 # ------------------------------------------------------------------------------ stiffness

@@ -7,10 +7,12 @@ operator is built or a job is enumerated.
 Memory model: one ``simulate`` call holds the FFT operator and its work arrays on the padded
 m x m grid, the solver's per-element vectors, the coarse level of its preconditioner and one
 saved state per preload of its loading path. Measured (``python benchmarks/scene_memory.py``,
-16 scenes from m = 960 to 16 384, 32 400 to 10.9 million active elements, 2026-11-26,
-benchmarks/NOTES.md "The memory check, measured"): once the coarse level is taken off, the peak
-resident memory of the whole process is 150-230 MiB plus 28-36 bytes per m^2. The estimate is
-:data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2, plus the coarse
+scenes from m = 960 to 16 384, 32 400 to 10 million active elements, 2026-11-28,
+benchmarks/NOTES.md "The kernel transform built in blocks"): once the coarse level and the
+preload's snapshot are taken off, the peak resident memory of the whole process is about
+160 MiB plus 14.5-19 bytes per m^2 (28-36 before the kernel transform was built in blocks and
+kept once). The estimate is :data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a
+margin) x m^2, plus the coarse
 level the scene gets (``solver.preconditioner``, or what ``auto`` takes): :func:`coarse_bytes`
 or :func:`moment_bytes` for the dense levels (pillar x pillar arrays that grow with n_side^4,
 not with the grid), :func:`lattice_bytes` for the lattice level (linear in pillars and
@@ -32,12 +34,14 @@ from ..errors import ConfigError
 from ..geometry.grid import Lattice
 from ..solve.factory import auto_kind
 
-#: largest grid side (elements) of a scene
-MAX_GRID_SIDE = 8192
+#: largest grid side (elements) of a scene: 1 000 x 1 000 pillars at `fast` (13 000) fit under it;
+#: whether a scene runs is the memory check's to say (the largest padded FFT grid, 32 768, would
+#: need about 20 GiB at :data:`BYTES_PER_FFT_ELEMENT` alone)
+MAX_GRID_SIDE = 16384
 #: most jobs of one campaign grid
 MAX_JOBS = 1_000_000
-#: peak bytes per element of the padded FFT grid (28-36 measured, see the module docstring)
-BYTES_PER_FFT_ELEMENT = 40
+#: peak bytes per element of the padded FFT grid (14.5-19 measured, see the module docstring)
+BYTES_PER_FFT_ELEMENT = 20
 #: the interpreter, numba, FFTW, the libraries and a run's fixed costs (150-230 MiB measured)
 BASE_BYTES = 256 << 20
 
