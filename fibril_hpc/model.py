@@ -20,7 +20,6 @@ from .geometry.grid import Geometry, Lattice, PillarGrid, build_pillar_grid
 from .geometry.scaling import Scaling, critical_stress
 from .geometry.tips import tip_offsets
 from .inputs.heights import pillar_stiffness, setbacks
-from .inputs.limits import MAX_GRID_SIDE
 from .inputs.options import SolverOptions
 from .inputs.scene import Scene
 from .solve.farfield import MultipoleField
@@ -131,8 +130,8 @@ def build_scene_model(scene: Scene, operators: OperatorCache | None = None, *,
     offsets = tip_offsets(scene.tip, scene.tip_radius, lat.footprint, lat.radius,
                           1.0 / lat.grid_side)
     grid = build_pillar_grid(scene.n_side, scene.phi, scene.elements_per_diameter, sigma,
-                             scene.seed, max_elements=MAX_GRID_SIDE, lattice=scene.lattice,
-                             heights=heights, tip_offsets=offsets)
+                             scene.seed, lattice=scene.lattice, heights=heights,
+                             tip_offsets=offsets)
     op = None if operators is None else operators.get(scene, grid.geometry)
     k_tilde = pillar_stiffness(scene.k_tilde, scene.k_law, scene.k_spread, scene.n_side**2,
                                scene.seed)

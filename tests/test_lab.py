@@ -189,6 +189,12 @@ def test_grid_limit_uses_the_scene_lattice(tmp_path, capsys):
 
     square = Scene(n_side=400, phi=0.05, elements_per_diameter=10, preset="fast")
     assert memory_estimate(square)[1] == 15600 <= MAX_GRID_SIDE
+    # the model's grid builder guards with the same limit (one constant, not a second one)
+    import inspect
+
+    from fibril_hpc.geometry.grid import build_pillar_grid
+    assert inspect.signature(build_pillar_grid).parameters["max_elements"].default \
+        == MAX_GRID_SIDE == 16384
 
 
 def test_a_brush_of_a_million_pillars(tmp_path, capsys):

@@ -277,6 +277,13 @@ class Lattice:
                        area=self.area_fraction)
 
 
+#: largest grid side (elements) of a brush: 1 000 x 1 000 pillars at `fast` (13 000) fit under it;
+#: whether a scene runs is the memory check's to say (:mod:`fibril_hpc.inputs.limits`, which
+#: checks this limit on every scene before any work: the largest padded FFT grid, 32 768, would
+#: need about 20 GiB at its rate alone)
+MAX_GRID_SIDE = 16384
+
+
 def pillar_heights(n_pillars: int, seed: int) -> np.ndarray:
     """Standard-normal draws of the pillars, in row-major pillar order (see module docstring)."""
     rng = np.random.Generator(np.random.PCG64(seed))
@@ -284,7 +291,7 @@ def pillar_heights(n_pillars: int, seed: int) -> np.ndarray:
 
 
 def build_pillar_grid(n_side: int, phi: float, elements_per_diameter: float, sigma: float,
-                      seed: int, *, max_elements: int = 8192, lattice: str = "square",
+                      seed: int, *, max_elements: int = MAX_GRID_SIDE, lattice: str = "square",
                       heights: tuple | None = None, tip_offsets: np.ndarray | None = None
                       ) -> PillarGrid:
     """Discretise a brush of n_side**2 pillars on the unit square.

@@ -31,13 +31,9 @@ import resource
 
 from ..elastic.greens import padded_size
 from ..errors import ConfigError
-from ..geometry.grid import Lattice
+from ..geometry.grid import MAX_GRID_SIDE, Lattice
 from ..solve.factory import auto_kind
 
-#: largest grid side (elements) of a scene: 1 000 x 1 000 pillars at `fast` (13 000) fit under it;
-#: whether a scene runs is the memory check's to say (the largest padded FFT grid, 32 768, would
-#: need about 20 GiB at :data:`BYTES_PER_FFT_ELEMENT` alone)
-MAX_GRID_SIDE = 16384
 #: most jobs of one campaign grid
 MAX_JOBS = 1_000_000
 #: peak bytes per element of the padded FFT grid (14.5-19 measured, see the module docstring)
