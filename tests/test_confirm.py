@@ -45,6 +45,10 @@ def test_eigenvalue_bound_is_below_the_smallest_eigenvalue_of_every_set(n_side, 
     assert lam <= np.linalg.eigvalsh(K[np.ix_(s, s)])[0]
     # and the bound is not loose by orders of magnitude (about half of K(0, 0))
     assert lam > 0.3 * model.operator.c0
+    # read off the kernel transform without a scaled copy: the same number as from the copy
+    m = model.operator.m
+    spec = model.operator.kernel_hat * float(m * m)
+    assert lam == max(spec.min() - 64 * np.finfo(float).eps * np.abs(spec).max(), 0.0)
 
 
 def dense_system(model, att):
