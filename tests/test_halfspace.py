@@ -37,13 +37,18 @@ def test_backends_and_threads_agree(geom):
     rng = np.random.default_rng(5)
     p = rng.standard_normal(geom.n_active)
     outs = []
-    for backend, threads in (("numpy", 1), ("pyfftw", 1), ("pyfftw", 2)):
-        op = HalfSpace(geom, backend=backend, threads=threads)
+    q = rng.standard_normal(geom.n_active)
+    for backend, threads, planner in (("numpy", 1, "estimate"), ("pyfftw", 1, "estimate"),
+                                      ("pyfftw", 2, "estimate"), ("pyfftw", 1, "measure")):
+        op = HalfSpace(geom, backend=backend, threads=threads, planner=planner)
         u = np.empty_like(p)
         op.apply(p, u)
-        op.apply(p, u)        # buffers reused: a second product gives the same answer
+        first = u.copy()
+        op.apply(q, u)        # the row spectra are reused in place: nothing of q may stay
+        op.apply(p, u)        # buffers reused: a later product gives the same answer
+        assert np.array_equal(u, first)
         outs.append(u.copy())
-        assert op.n_pairs == 2
+        assert op.n_pairs == 3
     for u in outs[1:]:
         np.testing.assert_allclose(u, outs[0], rtol=1e-12, atol=1e-14)
 
