@@ -73,3 +73,6 @@ def test_spectrum_built_in_blocks_is_the_full_transform(n, m, block):
 def test_spectrum_refuses_a_grid_too_small_for_the_linear_convolution():
     with pytest.raises(ValueError, match="2n-1"):
         kernel_spectrum(10, 18, 0.1)
+    for block in (0, -3):
+        with pytest.raises(ValueError, match="at least one"):
+            kernel_spectrum(5, 9, 0.1, block=block)

@@ -153,7 +153,9 @@ class FFTPair:
 
     def stages(self, kernel_hat: np.ndarray) -> dict:
         """The stages of one pyfftw product, in order, as named callables (for timing them one by
-        one; running all of them in order is :meth:`convolve` without the pair count)."""
+        one; running all of them in order is :meth:`convolve` without the pair count). The
+        column stage transforms the row spectra in place: called twice without the row stage
+        between, it multiplies by the kernel twice."""
         if self.backend != "pyfftw":
             raise ValueError("stages exist for the pyfftw backend only")
         return {

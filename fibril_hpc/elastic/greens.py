@@ -128,12 +128,14 @@ def kernel_spectrum(n: int, m: int, h: float, e_star=E_STAR, block: int = BUILD_
     tests/test_greens.py), but without the m x m kernel and its temporaries: the wrapped kernel's
     rows i and m - i are the same, so only the m/2 + 1 distinct rows are evaluated (``block``
     at a time) and transformed, and the columns are transformed ``block`` at a time from them.
-    The build peaks at those row spectra and the result, 16 bytes per m^2 in all, where the
-    whole-array transform took a dozen m x m temporaries (benchmarks/NOTES.md, "The kernel
-    transform built in blocks").
+    The build peaks at those row spectra and the result, about 8 bytes per m^2 in all (16 per
+    m^2/4 and 8 per m^2/2), where the whole-array transform took a dozen m x m temporaries
+    (benchmarks/NOTES.md, "The kernel transform built in blocks").
     """
     if m < 2 * n - 1:
         raise ValueError(f"padded size {m} < 2n-1 = {2 * n - 1}")
+    if block < 1:
+        raise ValueError(f"block = {block}: at least one row and column at a time")
     w = m // 2 + 1
     half = m // 2 + 1                       # distinct rows: 0 ... m // 2
     off = np.arange(m) * h
