@@ -1,7 +1,8 @@
 """The memory check's model (fibril_hpc/inputs/limits.py) against what a run really holds: the
-estimate counts the scene's own active elements, one snapshot per preload of a grouped path, and
-bounds the peak resident memory of a real run from above without overstating it twofold (the
-model before issue 35's measurement said 1.8-3.0 times the peak at m >= 2 688)."""
+estimate counts the scene's own active elements, one snapshot and two pillar-state maps per
+preload of a grouped path, and bounds the peak resident memory of a real run from above without
+overstating it twofold (the model before issue 35's measurement said 1.8-3.0 times the peak at
+m >= 2 688)."""
 
 import os
 import subprocess
@@ -26,8 +27,12 @@ def _active(scene):
 def test_each_preload_of_a_path_adds_one_snapshot(kind):
     one = Scene(n_side=12, preset="fast", **{kind: (0.5,)})
     seven = one.replace(**{kind: tuple(0.5 * 2**i for i in range(7))})
-    per = limits.SNAPSHOT_BYTES_PER_ELEMENT * _active(one)
+    n = limits.memory_estimate(one)[1]
+    # one snapshot, and two pillar states' n x n maps (at the preload, at the pull-off)
+    per = limits.SNAPSHOT_BYTES_PER_ELEMENT * _active(one) + 2 * limits.STATE_MAP_BYTES * n * n
     assert limits.memory_estimate(seven)[0] - limits.memory_estimate(one)[0] == 6 * per
+    assert limits.state_map_bytes(0, n) == 0
+    assert limits.state_map_bytes(1, n) == (2 * 5 + 4) * n * n
     # a caller that knows the path (a campaign's task) overrides the scene's own count
     assert limits.memory_estimate(one, 7)[0] == limits.memory_estimate(seven)[0]
     assert limits.snapshot_bytes(0, 10) == 0
@@ -89,4 +94,6 @@ def test_the_estimate_bounds_a_real_runs_peak_and_stays_close(n_side, epd):
     line = next(ln for ln in r.stdout.splitlines() if ln.startswith("n_side="))
     got = dict(kv.split("=", 1) for kv in line.split())
     ratio = float(got["estimate_over_peak"])
-    assert 1.0 <= ratio <= 1.6, line
+    # three events: further below the estimate than a whole run, whose growth it covers
+    # (1.37-1.68 measured for these two; runs into the unloading 1.10-1.11)
+    assert 1.0 <= ratio <= 1.9, line

@@ -7,17 +7,22 @@ operator is built or a job is enumerated.
 Memory model: one ``simulate`` call holds the FFT operator and its work arrays on the padded
 m x m grid, the solver's per-element vectors, the coarse level of its preconditioner and one
 saved state per preload of its loading path. Measured (``python benchmarks/scene_memory.py``,
-scenes from m = 960 to 16 384, 32 400 to 10 million active elements, 2026-11-28,
-benchmarks/NOTES.md "The kernel transform built in blocks"): once the coarse level and the
-preload's snapshot are taken off, the peak resident memory of the whole process is about
-160 MiB plus 14.5-19 bytes per m^2 (28-36 before the kernel transform was built in blocks and
-kept once). The estimate is :data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a
+scenes from m = 960 to 16 384, 32 400 to 9 million active elements, stopped after three
+events, 2026-11-28, benchmarks/NOTES.md "The kernel transform built in blocks"): once the
+coarse level and the preload's snapshot are taken off, the peak resident memory of the whole
+process is about 160 MiB plus 14.3-19 bytes per m^2 (28-36 before the kernel transform was
+built in blocks). Runs that go on into the unloading peak higher: the result's pillar-state
+maps, the unloading branch's copies and the fixed costs grow (four `fast` runs from 100 x 100
+to 1 000 x 1 000, capped after 22-368 events, peaked at 0.79-0.91 of the estimate).
+The estimate is :data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a
 margin) x m^2, plus the coarse
 level the scene gets (``solver.preconditioner``, or what ``auto`` takes): :func:`coarse_bytes`
 or :func:`moment_bytes` for the dense levels (pillar x pillar arrays that grow with n_side^4,
 not with the grid), :func:`lattice_bytes` for the lattice level (linear in pillars and
 elements), each on the scene's own active elements (pillars x footprint), plus
-:func:`snapshot_bytes` for the preload snapshots a grouped loading path keeps.
+:func:`snapshot_bytes` for the preload snapshots a grouped loading path keeps, plus
+:func:`state_map_bytes` for the n x n maps of the pillar states its result keeps (they grow a
+run's peak past its first events).
 It is compared with the memory available now: the least of ``MemAvailable`` of
 ``/proc/meminfo``, what the process's own cgroup (v1 or v2, found through ``/proc/self/cgroup``,
 and each parent) leaves, and the address space left under ``RLIMIT_AS``;
@@ -38,8 +43,11 @@ from ..solve.factory import auto_kind
 MAX_JOBS = 1_000_000
 #: peak bytes per element of the padded FFT grid (14.5-19 measured, see the module docstring)
 BYTES_PER_FFT_ELEMENT = 20
-#: the interpreter, numba, FFTW, the libraries and a run's fixed costs (150-230 MiB measured)
-BASE_BYTES = 256 << 20
+#: the interpreter, numba, FFTW, the libraries and a run's fixed costs: about 160 MiB in runs
+#: stopped after three events, more in runs that go on into the unloading (a 100 x 100 `fast`
+#: run to 368 events peaked at 491 MiB), so 320 MiB (benchmarks/NOTES.md, "The kernel transform
+#: built in blocks")
+BASE_BYTES = 320 << 20
 
 
 def check_grid(n_side: int, phi: float, elements_per_diameter: float,
@@ -139,6 +147,24 @@ def snapshot_bytes(n_preloads: int, n_active: int) -> int:
     return (SNAPSHOT_BYTES_PER_ELEMENT * n_preloads + SAVED_STATE_BYTES_PER_ELEMENT) * n_active
 
 
+#: bytes per grid element (n x n, not the padded m x m) of the pillar states a result keeps:
+#: each preload's state at the preload and at the pull-off holds an n x n float32 pressure map
+#: and a uint8 contact map (``api._pillar_state``)
+STATE_MAP_BYTES = 5
+#: bytes per grid element of the one float32 map being built at a time
+STATE_MAP_BUILD_BYTES = 4
+
+
+def state_map_bytes(n_preloads: int, grid_side: int) -> int:
+    """Peak bytes of the pillar states' n x n maps that a path through ``n_preloads`` preloads
+    keeps in its result (two states per preload), with the one being built. They grow the
+    peak past a run's first events: a 316 x 316 `fast` run peaked 27 % above its first three
+    events (benchmarks/NOTES.md, "316 x 316 at `fast`, reference and moments side by side")."""
+    if n_preloads < 1:
+        return 0
+    return (2 * STATE_MAP_BYTES * n_preloads + STATE_MAP_BUILD_BYTES) * grid_side**2
+
+
 def uses_coarse_level(scene) -> bool:
     """Whether ``scene``'s solver builds a coarse level (``auto``, ``two_level``, ``moments``
     or ``lattice``; counted whatever the footprints: an upper bound)."""
@@ -175,6 +201,7 @@ def memory_estimate(scene, preloads: int | None = None) -> tuple[int, int, int]:
         preloads = len(scene.preloads)
     need = BYTES_PER_FFT_ELEMENT * m * m + BASE_BYTES
     need += coarse_level_bytes(scene, m, active) + snapshot_bytes(preloads, active)
+    need += state_map_bytes(preloads, n)
     return need, n, m
 
 
@@ -298,4 +325,5 @@ def check_job_count(counts: dict) -> int:
 
 
 __all__ = ["check_grid", "check_memory", "check_job_count", "memory_estimate", "snapshot_bytes",
-           "coarse_bytes", "moment_bytes", "available_memory", "MAX_GRID_SIDE", "MAX_JOBS"]
+           "coarse_bytes", "moment_bytes", "available_memory", "MAX_GRID_SIDE", "MAX_JOBS",
+           "state_map_bytes"]
