@@ -168,7 +168,7 @@ class FFTPair:
         """The real kernel transform cut into the column blocks, shape (n_blocks, m, B), made
         once per kernel (zero on the padding columns), one block at a time: each block's
         multiply reads a contiguous array, into the real and imaginary parts alike. (Read in
-        place from the (m, m/2 + 1) kernel, the pair was 15-20 % slower; duplicated per
+        place from the (m, m/2 + 1) kernel, the pair was 13-25 % slower; duplicated per
         (re, im) for a plain NumPy multiply, as before, it took twice the memory for the same
         speed: benchmarks/NOTES.md, "The kernel transform built in blocks".)"""
         if self._kernel_src is not kernel_hat:

@@ -14,10 +14,9 @@ process is about 160 MiB plus 14.3-19 bytes per m^2 (28-36 before the kernel tra
 built in blocks). Runs that go on into the unloading peak higher: the result's pillar-state
 maps, the unloading branch's copies and the fixed costs grow (four `fast` runs from 100 x 100
 to 1 000 x 1 000, capped after 22-368 events, peaked at 0.79-0.91 of the estimate).
-The estimate is :data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a
-margin) x m^2, plus the coarse
-level the scene gets (``solver.preconditioner``, or what ``auto`` takes): :func:`coarse_bytes`
-or :func:`moment_bytes` for the dense levels (pillar x pillar arrays that grow with n_side^4,
+The estimate is :data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2,
+plus the coarse level the scene gets (``solver.preconditioner``, or what ``auto`` takes):
+:func:`coarse_bytes` or :func:`moment_bytes` for the dense levels (pillar x pillar arrays that grow with n_side^4,
 not with the grid), :func:`lattice_bytes` for the lattice level (linear in pillars and
 elements), each on the scene's own active elements (pillars x footprint), plus
 :func:`snapshot_bytes` for the preload snapshots a grouped loading path keeps, plus
@@ -41,7 +40,7 @@ from ..solve.factory import auto_kind
 
 #: most jobs of one campaign grid
 MAX_JOBS = 1_000_000
-#: peak bytes per element of the padded FFT grid (14.5-19 measured, see the module docstring)
+#: peak bytes per element of the padded FFT grid (14.3-19 measured, see the module docstring)
 BYTES_PER_FFT_ELEMENT = 20
 #: the interpreter, numba, FFTW, the libraries and a run's fixed costs: about 160 MiB in runs
 #: stopped after three events, more in runs that go on into the unloading (a 100 x 100 `fast`
