@@ -16,8 +16,8 @@ maps, the unloading branch's copies and the fixed costs grow (four `fast` runs f
 to 1 000 x 1 000, capped after 22-368 events, peaked at 0.79-0.91 of the estimate).
 The estimate is :data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2,
 plus the coarse level the scene gets (``solver.preconditioner``, or what ``auto`` takes):
-:func:`coarse_bytes` or :func:`moment_bytes` for the dense levels (pillar x pillar arrays that grow with n_side^4,
-not with the grid), :func:`lattice_bytes` for the lattice level (linear in pillars and
+:func:`coarse_bytes` or :func:`moment_bytes` for the dense levels (pillar x pillar arrays that
+grow with n_side^4, not with the grid), :func:`lattice_bytes` for the lattice level (linear in pillars and
 elements), each on the scene's own active elements (pillars x footprint), plus
 :func:`snapshot_bytes` for the preload snapshots a grouped loading path keeps, plus
 :func:`state_map_bytes` for the n x n maps of the pillar states its result keeps (they grow a
