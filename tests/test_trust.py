@@ -412,9 +412,11 @@ def test_9_memory_guards_under_rlimit_as(tmp_path):
     r = run([grid, "--dry-run", "--ignore-memory-check"], preexec_fn=_limited(6_000_000 * 1024),
             timeout=120)
     assert r.returncode == 0 and "FFT 16384^2" in r.stdout, r.stderr
-    # running anyway meets a MemoryError: one line, exit 2
+    # running anyway meets a MemoryError: one line, exit 2 (a grid of 11 700^2, FFT 24 576^2: the
+    # build alone passes the 6 GB limit; 200 x 200 at 18 now builds within it and fails later,
+    # after a progress line, since the kernel transform is built in blocks)
     scene = tmp_path / "big_scene.yaml"
-    scene.write_text("n_side: 200\nelements_per_diameter: 18\nsolver: {fft_threads: 1}\n")
+    scene.write_text("n_side: 300\nelements_per_diameter: 18\nsolver: {fft_threads: 1}\n")
     exe = shutil.which("fibril-run", path=os.path.dirname(sys.executable))
     r = subprocess.run([exe, str(scene), "--ignore-memory-check"], capture_output=True,
                        text=True, timeout=120, env=env(), preexec_fn=_limited(6_000_000 * 1024))
