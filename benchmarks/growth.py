@@ -46,7 +46,7 @@ def child(args: dict) -> dict:
     solver = {"fft_threads": args["threads"]}
     if args["preconditioner"] != "auto":
         solver["preconditioner"] = args["preconditioner"]
-    for key in ("confirm", "confirm_tol", "far_field"):     # benchmarks/confirm.py, --far-field
+    for key in ("confirm", "confirm_tol", "far_field", "max_wall_s"):   # confirm.py, options
         if args.get(key) is not None:
             solver[key] = args[key]
     scene = Scene(n_side=args["n_side"], k_tilde=args["k"], sigma_tilde=args["sigma"],
@@ -61,7 +61,8 @@ def child(args: dict) -> dict:
            "fft_pairs": st["fft_pairs"], "cg_solves": st["cg_solves"], "events": st["events"],
            "pairs_per_event": st["fft_pairs"] / max(st["events"], 1), "cpu_s": cpu,
            "wall_s": wall, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-           "F_A": r.main.F_A, "F_P": r.main.F_P, "status": r.status,
+           "F_A": r.main.F_A if r.main.F_A is not None else float("nan"), "F_P": r.main.F_P,
+           "status": r.status,
            "load_1min": os.getloadavg()[0], "confirm": r.scene.solver.confirm,
            "far_field": r.scene.solver.far_field}
     for key in ("confirmed_local", "confirmed_global", "certificates_refused",
@@ -123,6 +124,10 @@ def main(argv=None) -> int:
                    help="also time the bare full pair on each FFT side (both planners)")
     p.add_argument("--far-field", choices=["exact", "multipole"], default="exact",
                    help="solver.far_field of every scene (exact: the reference)")
+    p.add_argument("--max-wall-s", type=float, default=None,
+                   help="solver.max_wall_s of every scene: a capped curve stops (status failed) "
+                        "and its row gives the CPU and FFT pairs per event up to there (the "
+                        "power-law fits then mean nothing)")
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     a = p.parse_args(argv)
     rows = []
@@ -131,13 +136,14 @@ def main(argv=None) -> int:
             for th in a.threads:
                 row = run_child({"n_side": n, "preset": a.preset, "preconditioner": pc,
                                  "threads": th, "k": a.k, "sigma": a.sigma, "F_P": a.F_P,
-                                 "seed": a.seed, "floor": a.floor,
+                                 "seed": a.seed, "floor": a.floor, "max_wall_s": a.max_wall_s,
                                  "far_field": None if a.far_field == "exact" else a.far_field})
                 rows.append(row)
                 print(f"  n_side {n} {pc} ({row['chosen']}) threads {th}: {row['fft_pairs']} pairs, "
                       f"{row['events']} events, {row['cpu_s']:.1f} CPU s, "
                       f"{row['wall_s']:.1f} wall s, {row['peak_rss_mb']:.0f} MB, "
-                      f"F~_A {row['F_A']:.8f} (load {row['load_1min']:.1f})", flush=True)
+                      f"F~_A {row['F_A']:.8f} ({row['status']}; load {row['load_1min']:.1f})",
+                      flush=True)
     hdr = (f"{'n':>4s} {'N_p':>6s} {'precond':>10s} {'chosen':>10s} {'thr':>3s} {'m':>5s} "
            f"{'pairs':>7s} {'solves':>6s} {'events':>6s} {'pairs/ev':>8s} {'CPU s':>8s} "
            f"{'wall s':>8s} {'RSS MB':>7s} {'F~_A':>11s}")

@@ -154,3 +154,21 @@ def test_time_call_reports_a_median():
 def test_every_section_is_in_the_dispatch_table():
     assert set(cli.DEFAULT_SECTIONS) < set(cli.SECTIONS) and "opts" in cli.SECTIONS
     assert all(callable(f) for f in cli.SECTIONS.values())
+
+
+def test_growth_rows_of_a_capped_and_a_whole_curve(tmp_path):
+    """benchmarks/growth.py --max-wall-s: a curve stopped by the cap is a row with its status
+    and F~_A nan (the pairs and events up to the cap), a whole one is ``ok`` with its F~_A."""
+    from benchmarks import growth
+
+    rows = []
+    for name, extra in (("whole", []), ("capped", ["--max-wall-s", "1e-3"])):
+        out = tmp_path / name
+        assert growth.main(["--sides", "5", "--preset", "fast", "--out", str(out)] + extra) == 0
+        (f,) = [p for p in os.listdir(out) if p.endswith(".json")]
+        with open(out / f) as fh:
+            rows.append(json.load(fh)["rows"][0])
+    whole, capped = rows
+    assert whole["status"] == "ok" and whole["F_A"] > 0 and whole["fft_pairs"] > 0
+    assert capped["status"] == "failed" and math.isnan(capped["F_A"])
+    assert capped["events"] < whole["events"]
