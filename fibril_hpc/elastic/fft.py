@@ -173,7 +173,7 @@ class FFTPair:
         speed: benchmarks/NOTES.md, "The kernel transform built in blocks".)"""
         if self._kernel_src is not kernel_hat:
             m, b, w = self.m, COLUMN_BLOCK, kernel_hat.shape[1]
-            self._kernel_blocks = None
+            self._kernel_blocks = None          # a former kernel's copy goes before the new one
             blocks = np.zeros((self.n_blocks, m, b))
             for i in range(self.n_blocks):
                 c = kernel_hat[:, i * b:min((i + 1) * b, w)]

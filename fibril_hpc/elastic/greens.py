@@ -136,13 +136,12 @@ def kernel_spectrum(n: int, m: int, h: float, e_star=E_STAR, block: int = BUILD_
         raise ValueError(f"padded size {m} < 2n-1 = {2 * n - 1}")
     if block < 1:
         raise ValueError(f"block = {block}: at least one row and column at a time")
-    w = m // 2 + 1
-    half = m // 2 + 1                       # distinct rows: 0 ... m // 2
+    w = m // 2 + 1                          # columns of the result, and distinct rows 0 ... m // 2
     off = np.arange(m) * h
-    off[half:] = off[1:m - half + 1][::-1]  # min(i, m - i) h
-    rows = np.empty((half, w), dtype=np.complex128)
-    for a in range(0, half, block):
-        e = min(a + block, half)
+    off[w:] = off[1:m - w + 1][::-1]        # min(i, m - i) h
+    rows = np.empty((w, w), dtype=np.complex128)
+    for a in range(0, w, block):
+        e = min(a + block, w)
         rows[a:e] = np.fft.rfft(love(off[a:e, None], off[None, :], h, e_star), axis=1)
     mirror = np.minimum(np.arange(m), m - np.arange(m))     # row i is distinct row mirror[i]
     out = np.empty((m, w))

@@ -158,7 +158,7 @@ def state_map_bytes(n_preloads: int, grid_side: int) -> int:
     """Peak bytes of the pillar states' n x n maps that a path through ``n_preloads`` preloads
     keeps in its result (two states per preload), with the one being built. They grow the
     peak past a run's first events: a 316 x 316 `fast` run peaked 27 % above its first three
-    events (benchmarks/NOTES.md, "316 x 316 at `fast`, reference and moments side by side")."""
+    events (benchmarks/NOTES.md, "316 × 316 at `fast`, reference and moments side by side")."""
     if n_preloads < 1:
         return 0
     return (2 * STATE_MAP_BYTES * n_preloads + STATE_MAP_BUILD_BYTES) * grid_side**2
