@@ -185,12 +185,19 @@ def test_lattice_kernels(n, seed):
         mod.lattice_gather(grids[0], ib, ia, blocks, v, use, o)
     np.testing.assert_allclose(out[0], out[1], rtol=1e-13, atol=1e-14)
     assert np.all(out[0][use == 0] == 0)
-    k3 = rng.standard_normal((3, 3, 5)) + 1j * rng.standard_normal((3, 3, 5))
+    # the symmetric product in place against the full complex 3 x 3 product per frequency
+    ks = rng.standard_normal((6, 5))
+    k3 = np.empty((3, 3, 5), np.complex128)
+    k3[0, 0], k3[1, 1], k3[2, 2] = ks[0], ks[1], ks[2]
+    k3[1, 2] = k3[2, 1] = ks[3]
+    k3[0, 1], k3[1, 0] = 1j * ks[4], -1j * ks[4]
+    k3[0, 2], k3[2, 0] = 1j * ks[5], -1j * ks[5]
     vh = rng.standard_normal((3, 5)) + 1j * rng.standard_normal((3, 5))
-    sp = [np.empty((3, 5), np.complex128) for _ in range(2)]
-    for mod, o in zip((C, R), sp):
-        mod.spectral3(k3, vh, o)
-    np.testing.assert_allclose(sp[0], sp[1], rtol=1e-13, atol=1e-14)
+    want = np.einsum("abj,bj->aj", k3, vh)
+    for mod in (C, R):
+        sp = vh.copy()
+        mod.spectral3_sym(ks, sp)
+        np.testing.assert_allclose(sp, want, rtol=1e-13, atol=1e-14)
 
 
 @SETTINGS

@@ -50,6 +50,63 @@ def test_fft_couplings_equal_the_dense_multipole_matrix(lattice, n_side):
     np.testing.assert_allclose(out, want, rtol=0, atol=1e-12 * max(np.abs(want).max(), 1e-300))
 
 
+@pytest.mark.parametrize("shape, steps, fill", [((3, 7), (5, 9), 1.0), ((8, 2), (4, 3), 0.6),
+                                                ((1, 6), (2, 7), 1.0), ((5, 5), (3, 3), 0.5)])
+def test_fft_couplings_on_rectangular_lattices(shape, steps, fill):
+    """Lattices of unequal sides and steps, partly empty: the transforms pruned to the lattice
+    rows and the spectra kept by their symmetry give the dense multipole matrix (to rounding)."""
+    ny, nx = shape
+    rng = np.random.default_rng(ny * 10 + nx)
+    cells = np.flatnonzero(rng.random(ny * nx) < fill)
+    if len(cells) == 0:
+        cells = np.array([0])
+    ib, ia = np.divmod(cells, nx)
+    lat = PillarLattice(ia.astype(np.int64), ib.astype(np.int64), shape, steps)
+    h = 0.03
+    dense = multipole_couplings(ia * steps[0] * h, ib * steps[1] * h, h)
+    g = len(cells)
+    v = rng.standard_normal((g, 3))
+    blocks = rng.standard_normal((g, 3, 3))
+    use = (rng.random((g, 3)) < 0.8).astype(np.float64)
+    out = np.empty_like(v)
+    couplings = LatticeCouplings(lat, h)
+    want = use * ((dense @ v.reshape(-1)).reshape(-1, 3) + np.einsum("gab,gb->ga", blocks, v))
+    for _ in range(2):                          # the second sees nothing of the first
+        couplings.apply(v, blocks, use, out)
+        np.testing.assert_allclose(out, want, rtol=0,
+                                   atol=1e-12 * max(np.abs(want).max(), 1e-300))
+
+
+def test_the_spectra_have_the_symmetry_the_product_assumes():
+    """K00, K11, K22, K12 = K21 real, K01 = -K10 and K02 = -K20 imaginary: what
+    ``LatticeCouplings.symmetric_rows`` keeps is the whole spectrum, up to its rounding."""
+    import scipy.fft as sfft
+
+    from fibril_hpc.solve.moments import multipole_kernel
+    for ny, nx, sx, sy in ((6, 9, 4, 7), (5, 5, 3, 3)):
+        py, px = 2 * ny, 2 * nx
+        sa = np.where(np.arange(px) < nx, np.arange(px), np.arange(px) - px)
+        sb = np.where(np.arange(py) < ny, np.arange(py), np.arange(py) - py)
+        rx = np.broadcast_to(-sa[None, :] * sx * 0.1, (py, px)).astype(float)
+        ry = np.broadcast_to(-sb[:, None] * sy * 0.1, (py, px)).astype(float)
+        zero = (rx == 0) & (ry == 0)
+        f = multipole_kernel(np.where(zero, 1.0, rx), ry, 0.1)
+        f[zero] = 0.0
+        f[np.abs(sb) >= ny, :] = 0.0
+        f[:, np.abs(sa) >= nx] = 0.0
+        k = sfft.rfft2(np.moveaxis(f, (2, 3), (0, 1)), axes=(2, 3)).reshape(3, 3, -1)
+        tol = 1e-13 * np.abs(k).max()
+        for a, b in ((0, 0), (1, 1), (2, 2), (1, 2)):
+            assert np.abs(k[a, b].imag).max() <= tol
+            np.testing.assert_allclose(k[b, a], k[a, b], rtol=0, atol=tol)
+        for a, b in ((0, 1), (0, 2)):
+            assert np.abs(k[a, b].real).max() <= tol
+            np.testing.assert_allclose(k[b, a], -k[a, b], rtol=0, atol=tol)
+        rows = LatticeCouplings.symmetric_rows(k)
+        np.testing.assert_array_equal(rows[4], k[0, 1].imag)
+        np.testing.assert_array_equal(rows[3], k[1, 2].real)
+
+
 def test_a_brush_off_any_lattice_has_none():
     class Scattered:      # four pillars of one footprint at offsets with no common step
         n_groups = 4

@@ -111,9 +111,10 @@ LATTICE_VALUES_PER_PILLAR = 42
 #: nodes of the padded lattice per pillar, at most: twice the lattice each way, the lattice at
 #: most ``lattice.MAX_LATTICE_FILL`` (4) nodes per pillar
 LATTICE_NODES_PER_PILLAR = 16
-#: bytes per padded lattice node: the FFT buffers (2 x 3 real, 2 x 3 half-complex: 96) and the
-#: nine kernel spectra (72), and while the kernels are built their real-space values (72) with
-#: the temporaries of the multipole formula (80)
+#: bytes per padded lattice node, an upper bound: the FFT buffers (2 x 3 real on half the rows,
+#: 3 half-complex: 48) and the kernel spectra's six real rows (24), and while the kernels are
+#: built their real-space values (72), the temporaries of the multipole formula (80) and the
+#: nine complex spectra before six real rows are kept (72): 296
 LATTICE_BYTES_PER_NODE = 320
 
 

@@ -337,15 +337,20 @@ def lattice_scatter(v, ib, ia, grid):
 
 
 @jit
-def spectral3(kern3, vh, out):
-    """out[a, j] = sum_b kern3[a, b, j] vh[b, j]: one 3 x 3 product per frequency j (complex
-    (3, 3, n), (3, n) and (3, n))."""
+def spectral3_sym(ks, vh):
+    """vh[:, j] <- K(j) vh[:, j] in place, for the lattice couplings' 3 x 3 spectra stored by
+    their symmetry as six real (n,) rows ``ks`` = (K00, K11, K22, K12, Im K01, Im K02): K00,
+    K11, K22 and K12 = K21 real, K01 = -K10 and K02 = -K20 imaginary (solve/lattice.py)."""
     for j in range(vh.shape[1]):
         v0 = vh[0, j]
         v1 = vh[1, j]
         v2 = vh[2, j]
-        for a in range(3):
-            out[a, j] = kern3[a, 0, j] * v0 + kern3[a, 1, j] * v1 + kern3[a, 2, j] * v2
+        a01 = ks[4, j]
+        a02 = ks[5, j]
+        k12 = ks[3, j]
+        vh[0, j] = ks[0, j] * v0 + 1j * (a01 * v1 + a02 * v2)
+        vh[1, j] = ks[1, j] * v1 + k12 * v2 - 1j * (a01 * v0)
+        vh[2, j] = ks[2, j] * v2 + k12 * v1 - 1j * (a02 * v0)
 
 
 @jit

@@ -147,8 +147,13 @@ def lattice_scatter(v, ib, ia, grid):
     grid[:, ib, ia] = v.T
 
 
-def spectral3(kern3, vh, out):
-    out[:] = np.einsum("abj,bj->aj", kern3, vh)
+def spectral3_sym(ks, vh):
+    k = np.empty((3, 3, ks.shape[1]), np.complex128)
+    k[0, 0], k[1, 1], k[2, 2] = ks[0], ks[1], ks[2]
+    k[1, 2] = k[2, 1] = ks[3]
+    k[0, 1], k[1, 0] = 1j * ks[4], -1j * ks[4]
+    k[0, 2], k[2, 0] = 1j * ks[5], -1j * ks[5]
+    vh[:] = np.einsum("abj,bj->aj", k, vh)
 
 
 def lattice_gather(grid, ib, ia, blocks, v, use, out):

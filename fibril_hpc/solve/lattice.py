@@ -8,8 +8,9 @@ rebuild, which caps it near a thousand pillars. But its off-diagonal blocks F_gh
 the offset of the two footprint centres, and on a brush the centres lie on a regular lattice:
 the coupling T v (v the coarse unknowns, one (force, x-moment, y-moment) per pillar) is a
 discrete convolution on that lattice, applied exactly by real FFTs of the zero-padded
-(2 n_y) x (2 n_x) lattice (three forward transforms, nine kernel products per frequency, three
-inverse transforms; the nine kernels are transformed once). The coarse system
+(2 n_y) x (2 n_x) lattice (three forward transforms, one 3 x 3 kernel product per frequency,
+three inverse transforms, each transform pruned to the lattice's rows; the nine kernels are
+transformed once and kept by their symmetry as six real rows). The coarse system
 
     F y = c,   F = T + blockdiag(F_gg)   on the unknowns in use,
 
@@ -79,8 +80,9 @@ class PillarLattice:
 class LatticeCouplings:
     """y = T v (+ the pillars' own blocks), the multipole couplings of
     :mod:`fibril_hpc.solve.moments` between pillars on a :class:`PillarLattice`, by FFT (module
-    docstring): single-threaded pyFFTW plans on one (3, p_y, p_x) buffer, compiled scatter,
-    3 x 3 product per frequency and gather. ``v`` and ``y`` are (n_pillars, 3)."""
+    docstring): single-threaded pyFFTW plans by stages, compiled scatter, 3 x 3 product per
+    frequency (in place, by the spectra's symmetry) and gather. ``v`` and ``y`` are
+    (n_pillars, 3)."""
 
     def __init__(self, lattice: PillarLattice, h: float):
         import pyfftw
@@ -106,29 +108,53 @@ class LatticeCouplings:
         f[:, np.abs(sa) >= nx] = 0.0
         # (3, 3, n_freq) spectra, unnormalised transforms: 1/(p_y p_x) folded in here
         spec = sfft.rfft2(np.moveaxis(f, (2, 3), (0, 1)), axes=(2, 3)) / (py * px)
-        self._k = np.ascontiguousarray(spec.reshape(3, 3, -1))
-        self._grid = pyfftw.zeros_aligned((3, py, px), dtype=np.float64)
+        self._ks = self.symmetric_rows(spec.reshape(3, 3, -1))
+        # The transforms by stages, pruned to the n_y lattice rows (the other p_y - n_y rows of
+        # the input are zero, and of the output not read): the rows' real transforms on n_y
+        # rows only, the columns' complex ones on all p_y, the product in place in _hat
+        # (the same numbers as the full 2-D transforms; 0.83x their time at 316 x 316)
+        self._grid = pyfftw.zeros_aligned((3, ny, px), dtype=np.float64)
         self._hat = pyfftw.zeros_aligned((3, py, px // 2 + 1), dtype=np.complex128)
-        self._prod = pyfftw.zeros_aligned((3, py, px // 2 + 1), dtype=np.complex128)
+        self._out = pyfftw.zeros_aligned((3, ny, px), dtype=np.float64)
         flags = ("FFTW_MEASURE",)
-        self._fwd = pyfftw.FFTW(self._grid, self._hat, axes=(1, 2), flags=flags, threads=1)
-        self._out = pyfftw.zeros_aligned((3, py, px), dtype=np.float64)
-        self._bwd = pyfftw.FFTW(self._prod, self._out, axes=(1, 2), direction="FFTW_BACKWARD",
-                                flags=flags + ("FFTW_DESTROY_INPUT",), threads=1)
+        rows = self._hat[:, :ny, :]
+        self._fwd_rows = pyfftw.FFTW(self._grid, rows, axes=(2,), flags=flags, threads=1)
+        self._fwd_cols = pyfftw.FFTW(self._hat, self._hat, axes=(1,), flags=flags, threads=1)
+        self._bwd_cols = pyfftw.FFTW(self._hat, self._hat, axes=(1,), flags=flags, threads=1,
+                                     direction="FFTW_BACKWARD")
+        self._bwd_rows = pyfftw.FFTW(rows, self._out, axes=(2,), direction="FFTW_BACKWARD",
+                                     flags=flags + ("FFTW_DESTROY_INPUT",), threads=1)
         self._grid[...] = 0.0
         self._ia = np.ascontiguousarray(lattice.ia)
         self._ib = np.ascontiguousarray(lattice.ib)
         self.applications = 0
 
+    @staticmethod
+    def symmetric_rows(spec) -> np.ndarray:
+        """The six real rows (K00, K11, K22, K12, Im K01, Im K02) of the (3, 3, n) spectra.
+
+        The couplings obey f(-s) = f(s)^T, with the force-force and tilt-tilt entries even in
+        s and the force-tilt ones odd: so K00, K11, K22 and K12 = K21 are real, K01 = -K10 and
+        K02 = -K20 imaginary (their other parts are the transform's rounding, 1e-16 of the
+        largest entry). Kept as six float64 rows instead of nine complex ones, the product
+        reads a third of the memory per frequency (benchmarks/NOTES.md, "The lattice
+        couplings' spectra by their symmetry")."""
+        return np.ascontiguousarray(np.stack([spec[0, 0].real, spec[1, 1].real,
+                                              spec[2, 2].real, spec[1, 2].real,
+                                              spec[0, 1].imag, spec[0, 2].imag]))
+
     def apply(self, v, blocks, use, out) -> np.ndarray:
         """out <- use * (T v + blockdiag(blocks) v) for v, out (n_pillars, 3), ``blocks``
         (n_pillars, 3, 3) and the 0/1 mask ``use`` (n_pillars, 3). The input grid's nodes without
         a pillar stay zero (the product comes back in a buffer of its own)."""
+        ny = self._grid.shape[1]
         kern.lattice_scatter(v, self._ib, self._ia, self._grid)
-        self._fwd()
-        n = self._k.shape[2]
-        kern.spectral3(self._k, self._hat.reshape(3, n), self._prod.reshape(3, n))
-        self._bwd(normalise_idft=False)
+        self._fwd_rows()
+        self._hat[:, ny:, :] = 0.0              # the zero rows (the last inverse overwrote them)
+        self._fwd_cols()
+        kern.spectral3_sym(self._ks, self._hat.reshape(3, -1))
+        self._bwd_cols(normalise_idft=False)
+        self._bwd_rows(normalise_idft=False)
         kern.lattice_gather(self._out, self._ib, self._ia, blocks, v, use, out)
         self.applications += 1
         return out
