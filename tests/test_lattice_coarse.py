@@ -42,19 +42,23 @@ def test_fft_couplings_equal_the_dense_multipole_matrix(lattice, n_side):
     blocks = rng.standard_normal((geom.n_groups, 3, 3))
     use = (rng.random((geom.n_groups, 3)) < 0.7).astype(np.float64)
     out = np.empty_like(v)
-    LatticeCouplings(lat, geom.h).apply(v, blocks, use, out)
+    couplings = LatticeCouplings(lat, geom.h)
+    couplings.apply(2.0 * v, blocks, use, out)
     want = use * ((dense @ v.reshape(-1)).reshape(-1, 3) + np.einsum("gab,gb->ga", blocks, v))
-    np.testing.assert_allclose(out, want, rtol=0, atol=1e-12 * max(np.abs(want).max(), 1e-300))
+    np.testing.assert_allclose(out, 2.0 * want, rtol=0,
+                               atol=2e-12 * max(np.abs(want).max(), 1e-300))
     # a second application sees nothing of the first (the input grid stays zero off pillars)
-    LatticeCouplings(lat, geom.h).apply(v, blocks, use, out)
+    couplings.apply(v, blocks, use, out)
     np.testing.assert_allclose(out, want, rtol=0, atol=1e-12 * max(np.abs(want).max(), 1e-300))
 
 
 @pytest.mark.parametrize("shape, steps, fill", [((3, 7), (5, 9), 1.0), ((8, 2), (4, 3), 0.6),
-                                                ((1, 6), (2, 7), 1.0), ((5, 5), (3, 3), 0.5)])
+                                                ((1, 6), (2, 7), 1.0), ((5, 5), (3, 3), 0.5),
+                                                ((6, 4), (3, 5), 0.8), ((7, 3), (2, 2), 1.0)])
 def test_fft_couplings_on_rectangular_lattices(shape, steps, fill):
-    """Lattices of unequal sides and steps, partly empty: the transforms pruned to the lattice
-    rows and the spectra kept by their symmetry give the dense multipole matrix (to rounding)."""
+    """Lattices of unequal sides and steps, partly empty, padded to 2 n - 1 and beyond (6 x 4:
+    12 x 8; 7 x 3: 15 x 5): the row transforms pruned to the lattice rows and the spectra kept
+    by their symmetry give the dense multipole matrix (to rounding)."""
     ny, nx = shape
     rng = np.random.default_rng(ny * 10 + nx)
     cells = np.flatnonzero(rng.random(ny * nx) < fill)
@@ -77,34 +81,27 @@ def test_fft_couplings_on_rectangular_lattices(shape, steps, fill):
                                    atol=1e-12 * max(np.abs(want).max(), 1e-300))
 
 
-def test_the_spectra_have_the_symmetry_the_product_assumes():
-    """K00, K11, K22, K12 = K21 real, K01 = -K10 and K02 = -K20 imaginary: what
-    ``LatticeCouplings.symmetric_rows`` keeps is the whole spectrum, up to its rounding."""
-    import scipy.fft as sfft
-
-    from fibril_hpc.solve.moments import multipole_kernel
-    for ny, nx, sx, sy in ((6, 9, 4, 7), (5, 5, 3, 3)):
-        py, px = 2 * ny, 2 * nx
-        sa = np.where(np.arange(px) < nx, np.arange(px), np.arange(px) - px)
-        sb = np.where(np.arange(py) < ny, np.arange(py), np.arange(py) - py)
-        rx = np.broadcast_to(-sa[None, :] * sx * 0.1, (py, px)).astype(float)
-        ry = np.broadcast_to(-sb[:, None] * sy * 0.1, (py, px)).astype(float)
-        zero = (rx == 0) & (ry == 0)
-        f = multipole_kernel(np.where(zero, 1.0, rx), ry, 0.1)
-        f[zero] = 0.0
-        f[np.abs(sb) >= ny, :] = 0.0
-        f[:, np.abs(sa) >= nx] = 0.0
-        k = sfft.rfft2(np.moveaxis(f, (2, 3), (0, 1)), axes=(2, 3)).reshape(3, 3, -1)
-        tol = 1e-13 * np.abs(k).max()
-        for a, b in ((0, 0), (1, 1), (2, 2), (1, 2)):
-            assert np.abs(k[a, b].imag).max() <= tol
-            np.testing.assert_allclose(k[b, a], k[a, b], rtol=0, atol=tol)
-        for a, b in ((0, 1), (0, 2)):
-            assert np.abs(k[a, b].real).max() <= tol
-            np.testing.assert_allclose(k[b, a], -k[a, b], rtol=0, atol=tol)
-        rows = LatticeCouplings.symmetric_rows(k)
-        np.testing.assert_array_equal(rows[4], k[0, 1].imag)
-        np.testing.assert_array_equal(rows[3], k[1, 2].real)
+@pytest.mark.parametrize("shape, steps", [((6, 9), (4, 7)), ((5, 5), (3, 3)), ((1, 8), (2, 5)),
+                                         ((7, 2), (6, 1))])
+def test_the_spectra_have_the_symmetry_the_product_assumes(shape, steps):
+    """K00, K11, K22, K12 = K21 real, K01 = -K10 and K02 = -K20 imaginary, on the padded sizes
+    the couplings pick (next_fast_len, odd and even): what ``symmetric_rows`` keeps is the
+    whole spectrum, up to its rounding."""
+    ny, nx = shape
+    ib, ia = np.divmod(np.arange(ny * nx), nx)
+    lat = PillarLattice(ia, ib, shape, steps)
+    couplings = LatticeCouplings(lat, 0.1)
+    k = LatticeCouplings.spectra(lat, 0.1, couplings.fft_shape)
+    tol = 1e-13 * np.abs(k).max()
+    for a, b in ((0, 0), (1, 1), (2, 2), (1, 2)):
+        assert np.abs(k[a, b].imag).max() <= tol
+        np.testing.assert_allclose(k[b, a], k[a, b], rtol=0, atol=tol)
+    for a, b in ((0, 1), (0, 2)):
+        assert np.abs(k[a, b].real).max() <= tol
+        np.testing.assert_allclose(k[b, a], -k[a, b], rtol=0, atol=tol)
+    rows = LatticeCouplings.symmetric_rows(k)
+    np.testing.assert_array_equal(rows[4], k[0, 1].imag)
+    np.testing.assert_array_equal(rows[3], k[1, 2].real)
 
 
 def test_a_brush_off_any_lattice_has_none():

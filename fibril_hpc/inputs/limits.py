@@ -111,10 +111,12 @@ LATTICE_VALUES_PER_PILLAR = 42
 #: nodes of the padded lattice per pillar, at most: twice the lattice each way, the lattice at
 #: most ``lattice.MAX_LATTICE_FILL`` (4) nodes per pillar
 LATTICE_NODES_PER_PILLAR = 16
-#: bytes per padded lattice node, an upper bound: the FFT buffers (2 x 3 real on half the rows,
-#: 3 half-complex: 48) and the kernel spectra's six real rows (24), and while the kernels are
-#: built their real-space values (72), the temporaries of the multipole formula (80) and the
-#: nine complex spectra before six real rows are kept (72): 296
+#: bytes per padded lattice node, an upper bound: while the kernels are built their real-space
+#: values (72), the offsets (16), the nine complex spectra and their normalised copy (2 x 72);
+#: kept, the FFT buffers (2 x 3 real on the lattice rows, about half the padded ones, and 3
+#: half-complex) and the spectra's six real rows (24). tracemalloc: a build peak of 243-249
+#: bytes per node, 75-79 kept (2026-11-28, benchmarks/NOTES.md "The lattice couplings' spectra
+#: by their symmetry")
 LATTICE_BYTES_PER_NODE = 320
 
 
