@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 
+from fibril_hpc.elastic.fft import FFTPair
 from fibril_hpc.elastic.halfspace import HalfSpace
 from fibril_hpc.geometry.grid import build_pillar_grid
 
@@ -103,17 +104,20 @@ def test_work_arrays_are_the_owned_buffers(geom):
     bufs = op.pair.work_arrays()
     assert "rows" not in bufs and all(isinstance(a, np.ndarray) for a in bufs.values())
     # real_in/out, the row spectra (one buffer: the column stage works in place in it), one
-    # column lane's three block buffers; the kernel cut into column blocks after a product
-    assert len(bufs) == 6 and bufs["real_in"] is op.pair.real_in
+    # column lane's three block buffers; the kernel cut into column blocks, held once (the
+    # operator keeps no copy of its own)
+    assert len(bufs) == 7 and bufs["real_in"] is op.pair.real_in
     assert op.pair._rows_back is op.pair._rows_hat
     assert set(HalfSpace(geom, threads=3).pair.work_arrays()) - set(bufs) == {
         f"lane{i}_{k}" for i in (1, 2) for k in ("col_in", "col_hat", "col_out")}
-    assert set(op.work_arrays()) == {"kernel_hat", "index"}
+    assert set(op.work_arrays()) == {"index"}
+    assert op.pair._kernel_src is None
     table = op.table           # built lazily, on first use
     assert op.work_arrays()["table"] is table
     p = np.ones(geom.n_active)
     op.apply(p, np.empty_like(p))
     blocks = op.pair.work_arrays()["_kernel_blocks"]
+    assert blocks is bufs["_kernel_blocks"]             # made once, at the build
     assert blocks.shape == (op.pair.n_blocks, op.m, len(bufs["lane0_col_in"][0]))
     assert blocks.nbytes == 8 * op.m * op.pair.n_blocks * blocks.shape[2]     # not per (re, im)
 
@@ -130,10 +134,36 @@ def test_stages_run_in_order_are_the_product(geom):
     idx = hs.work_arrays()["index"]
     pair.real_in.reshape(-1)[idx] = p                # p's scatter, as apply does it
     pair.real_out[...] = 0
-    for stage in pair.stages(hs.kernel_hat).values():
+    for stage in pair.stages().values():
         stage()
     got = pair.real_out.reshape(-1)[idx]
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-15 * np.abs(want).max())
+
+
+@pytest.mark.parametrize("backend", ["pyfftw", "numpy"])
+def test_the_kernel_is_held_once_and_read_back_whole(geom, backend):
+    """The operator hands its kernel transform to the pair and keeps none itself: the copy read
+    back from the pair's column blocks is the transform itself (bitwise), its extremes are the
+    ones the certificates read, and a product with the loaded kernel is the product with the
+    array given explicitly (bitwise)."""
+    from fibril_hpc.elastic.greens import kernel_spectrum
+    hs = HalfSpace(geom, backend=backend)
+    want = kernel_spectrum(geom.n, hs.m, geom.h)
+    got = hs.kernel_hat
+    assert got.shape == want.shape and np.array_equal(got, want)
+    assert (hs.kernel_min, hs.kernel_max) == (float(want.min()), float(want.max()))
+    assert not any(a is want for a in vars(hs).values())
+    rng = np.random.default_rng(5)
+    p = rng.standard_normal(geom.n_active)
+    u = hs.apply(p, np.empty_like(p)).copy()
+    hs.pair.convolve(want)                           # the same input rows, the kernel given
+    v = hs.pair.real_out.reshape(-1)[hs.work_arrays()["index"]]
+    assert np.array_equal(u, v)
+    empty = FFTPair(hs.m, hs.pair.rows, backend=backend)
+    with pytest.raises(ValueError, match="no kernel loaded"):
+        empty.kernel_transform()
+    with pytest.raises(ValueError, match="no kernel loaded"):
+        empty.convolve()
 
 
 def test_the_direct_sums_table_is_built_in_blocks_as_one_array():

@@ -24,7 +24,9 @@ def memory_arrays(model, drv) -> dict:
     ``work_arrays()`` of each object."""
     op, sv, pc, g = model.operator, model.solver, model.solver.precond, model.geometry
     n = g.n_active
-    fft = list(op.pair.work_arrays().values())
+    pair_arrays = op.pair.work_arrays()
+    kernel = pair_arrays.pop("_kernel_blocks", None)        # the kernel transform, held once
+    fft = list(pair_arrays.values())
     own = list(sv.work_arrays().values()) + list(drv.work_arrays().values())
     vectors = [a for a in own if a.ndim == 1 and a.dtype == np.float64 and len(a) == n]
     small = [a for a in own if not any(a is v for v in vectors)]
@@ -33,7 +35,7 @@ def memory_arrays(model, drv) -> dict:
     table = op.work_arrays().get("table")
     cats = {
         "fft_buffers": fft,
-        "kernel_transform": [op.kernel_hat],
+        "kernel_transform": [] if kernel is None else [kernel],
         "real_space_kernel_table": [] if table is None else [table],
         "active_length_float_vectors": vectors,
         "index_and_small_vectors": small,

@@ -107,6 +107,7 @@ class FFTPair:
         self.n_pairs = 0
         self._kernel_src = None
         self._kernel_blocks = None
+        self._kernel = None                     # the numpy backend's loaded kernel
         r, w = len(self.rows), self.m // 2 + 1
         b = COLUMN_BLOCK
         self.n_blocks = -(-w // b)
@@ -144,14 +145,15 @@ class FFTPair:
     def work_arrays(self) -> dict:
         """The buffers this pair owns, by name (for read-only use, e.g. memory accounting): not
         the caller's kernel transform (``_kernel_src``); its copy cut into the column blocks
-        (``_kernel_blocks``) once a product has made it; each column lane's block buffers."""
+        (``_kernel_blocks``) once loaded or once a product has made it; each column lane's
+        block buffers."""
         skip = ("rows", "_kernel_src", "_rows_back")     # _rows_back is _rows_hat
         out = {k: v for k, v in vars(self).items() if isinstance(v, np.ndarray) and k not in skip}
         for i, lane in enumerate(getattr(self, "_lanes", ())):
             out.update({f"lane{i}_{k}": v for k, v in lane.buffers().items()})
         return out
 
-    def stages(self, kernel_hat: np.ndarray) -> dict:
+    def stages(self, kernel_hat: np.ndarray | None = None) -> dict:
         """The stages of one pyfftw product, in order, as named callables (for timing them one by
         one; running all of them in order is :meth:`convolve` without the pair count). The
         column stage transforms the row spectra in place: called twice without the row stage
@@ -164,6 +166,30 @@ class FFTPair:
             "p4 c2r rows": self._rows_backward,
         }
 
+    def load_kernel(self, kernel_hat: np.ndarray) -> None:
+        """Keep ``kernel_hat`` (real, (m, m//2 + 1)) as the pair's own kernel, for
+        :meth:`convolve` called without one: cut into the column blocks (pyfftw) with no
+        reference to the caller's array kept, so that the caller may drop it and the kernel is
+        held once (4 bytes per m^2; the numpy backend keeps the array itself)."""
+        if self.backend == "pyfftw":
+            self._blocked(kernel_hat)
+            self._kernel_src = None
+        else:
+            self._kernel = kernel_hat
+
+    def kernel_transform(self) -> np.ndarray:
+        """The loaded kernel as one (m, m//2 + 1) array: a new copy from the column blocks
+        (pyfftw; 4 bytes per m^2 while it lives), the kept array itself (numpy)."""
+        if self.backend != "pyfftw":
+            if self._kernel is None:
+                raise ValueError("no kernel loaded")
+            return self._kernel
+        if self._kernel_blocks is None:
+            raise ValueError("no kernel loaded")
+        w = self.m // 2 + 1
+        return np.ascontiguousarray(
+            self._kernel_blocks.transpose(1, 0, 2).reshape(self.m, -1)[:, :w])
+
     def _blocked(self, kernel_hat: np.ndarray) -> np.ndarray:
         """The real kernel transform cut into the column blocks, shape (n_blocks, m, B), made
         once per kernel (zero on the padding columns), one block at a time: each block's
@@ -171,6 +197,10 @@ class FFTPair:
         place from the (m, m/2 + 1) kernel, the pair was 13-25 % slower; duplicated per
         (re, im) for a plain NumPy multiply, as before, it took twice the memory for the same
         speed: benchmarks/NOTES.md, "The kernel transform built in blocks".)"""
+        if kernel_hat is None:                  # the loaded kernel (load_kernel)
+            if self._kernel_blocks is None:
+                raise ValueError("no kernel loaded")
+            return self._kernel_blocks
         if self._kernel_src is not kernel_hat:
             m, b, w = self.m, COLUMN_BLOCK, kernel_hat.shape[1]
             self._kernel_blocks = None          # a former kernel's copy goes before the new one
@@ -226,16 +256,21 @@ class FFTPair:
             self._pool.shutdown(wait=True)
             self._pool = None
 
-    def convolve(self, kernel_hat: np.ndarray) -> None:
+    def convolve(self, kernel_hat: np.ndarray | None = None) -> None:
         """real_out <- rows of irfft2(rfft2(padded real_in) * kernel_hat), unnormalised.
 
         ``kernel_hat`` is real, shape (m, m//2 + 1); it is multiplied into the real and imaginary
-        parts as float64 (no complex copy of the kernel per call)."""
+        parts as float64 (no complex copy of the kernel per call). None: the kernel given to
+        :meth:`load_kernel`."""
         if self.backend == "pyfftw":
             self._rows_forward()
             self._columns(self._blocked(kernel_hat))
             self._rows_backward()
         else:
+            if kernel_hat is None:
+                kernel_hat = self._kernel
+                if kernel_hat is None:
+                    raise ValueError("no kernel loaded")
             self._padded[self.rows] = self.real_in
             spec = np.fft.rfft2(self._padded)
             spec *= kernel_hat

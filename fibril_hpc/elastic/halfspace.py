@@ -38,7 +38,12 @@ class HalfSpace:
         self.m = padded_size(geometry.n) if m is None else int(m)
         rows = np.unique(geometry.iy)
         self.pair = FFTPair(self.m, rows, backend=backend, threads=threads, planner=planner)
-        self.kernel_hat = kernel_spectrum(geometry.n, self.m, geometry.h)
+        # the kernel transform is held once, by the pair (cut into its column blocks); its
+        # least and largest values are kept for the certificates' eigenvalue bound
+        kernel = kernel_spectrum(geometry.n, self.m, geometry.h)
+        self.kernel_min, self.kernel_max = float(kernel.min()), float(kernel.max())
+        self.pair.load_kernel(kernel)
+        del kernel
         rank = np.zeros(geometry.n, dtype=np.int64)
         rank[rows] = np.arange(len(rows))
         self._idx = (rank[geometry.iy] * self.m + geometry.ix).astype(np.int64)
@@ -57,10 +62,16 @@ class HalfSpace:
 
     def work_arrays(self) -> dict:
         """The arrays this operator owns besides its FFT pair's (see ``pair.work_arrays()``)."""
-        out = {"kernel_hat": self.kernel_hat, "index": self._idx}
+        out = {"index": self._idx}
         if self._table is not None:
             out["table"] = self._table
         return out
+
+    @property
+    def kernel_hat(self) -> np.ndarray:
+        """The kernel transform K^ (real, (m, m//2 + 1)): a new copy from the pair's column
+        blocks (4 bytes per m^2 while it lives; for tests and benchmarks, not the solver)."""
+        return self.pair.kernel_transform()
 
     @property
     def table(self) -> np.ndarray:
@@ -95,7 +106,7 @@ class HalfSpace:
     def apply(self, p: np.ndarray, out: np.ndarray) -> np.ndarray:
         """out <- K p on the active elements (one FFT pair)."""
         self._rin[self._idx] = p
-        self.pair.convolve(self.kernel_hat)
+        self.pair.convolve()
         np.take(self._rout, self._idx, out=out)
         return out
 

@@ -50,13 +50,12 @@ def min_eigenvalue_bound(operator) -> float:
     the smallest eigenvalue of its circulant embedding (minus a rounding margin), or 0.0 where
     that is not positive."""
     m = operator.m
-    # the circulant's eigenvalues are kernel_hat * m^2: their least and largest, read without a
-    # copy of the m x (m/2 + 1) array (scaling by m^2 > 0 keeps the order, rounding too). The
-    # largest is the largest magnitude wherever the bound is not 0 (all of them positive)
-    k = operator.kernel_hat
+    # the circulant's eigenvalues are kernel_hat * m^2: their least and largest, kept by the
+    # operator when it built the transform (scaling by m^2 > 0 keeps the order, rounding too).
+    # The largest is the largest magnitude wherever the bound is not 0 (all of them positive)
     scale = float(m * m)
-    lo = float(k.min()) * scale
-    margin = 64.0 * np.finfo(np.float64).eps * float(k.max()) * scale
+    lo = operator.kernel_min * scale
+    margin = 64.0 * np.finfo(np.float64).eps * operator.kernel_max * scale
     return max(lo - margin, 0.0)
 
 
