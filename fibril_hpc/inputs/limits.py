@@ -11,9 +11,11 @@ scenes from m = 960 to 16 384, 32 400 to 9 million active elements, stopped afte
 events, 2026-11-28, benchmarks/NOTES.md "The kernel transform built in blocks"): once the
 coarse level and the preload's snapshot are taken off, the peak resident memory of the whole
 process is about 160 MiB plus 14.3-19 bytes per m^2 (28-36 before the kernel transform was
-built in blocks). Runs that go on into the unloading peak higher: the result's pillar-state
-maps, the unloading branch's copies and the fixed costs grow (four `fast` runs from 100 x 100
-to 1 000 x 1 000, capped after 22-368 events, peaked at 0.79-0.91 of the estimate).
+built in blocks; since the kernel transform is held once, 3.4-4.0 less, benchmarks/NOTES.md
+"The kernel transform held once"). Runs that go on into the unloading peak higher: the
+result's pillar-state maps, the unloading branch's copies and the fixed costs grow (four
+`fast` runs from 100 x 100 to 1 000 x 1 000, capped after 22-368 events, peaked at 0.79-0.91
+of the estimate before the kernel was held once; a 150 x 150 one at 0.72 since).
 The estimate is :data:`BASE_BYTES` + :data:`BYTES_PER_FFT_ELEMENT` (that, plus a margin) x m^2,
 plus the coarse level the scene gets (``solver.preconditioner``, or what ``auto`` takes):
 :func:`coarse_bytes` or :func:`moment_bytes` for the dense levels (pillar x pillar arrays that
