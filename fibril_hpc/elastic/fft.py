@@ -180,15 +180,17 @@ class FFTPair:
     def kernel_transform(self) -> np.ndarray:
         """The loaded kernel as one (m, m//2 + 1) array: a new copy from the column blocks
         (pyfftw; 4 bytes per m^2 while it lives), the kept array itself (numpy)."""
+        k = self._loaded()
         if self.backend != "pyfftw":
-            if self._kernel is None:
-                raise ValueError("no kernel loaded")
-            return self._kernel
-        if self._kernel_blocks is None:
+            return k
+        return np.ascontiguousarray(k.transpose(1, 0, 2).reshape(self.m, -1)[:, :self.m // 2 + 1])
+
+    def _loaded(self) -> np.ndarray:
+        """The kernel as kept: the column blocks (pyfftw) or the array (numpy)."""
+        k = self._kernel_blocks if self.backend == "pyfftw" else self._kernel
+        if k is None:
             raise ValueError("no kernel loaded")
-        w = self.m // 2 + 1
-        return np.ascontiguousarray(
-            self._kernel_blocks.transpose(1, 0, 2).reshape(self.m, -1)[:, :w])
+        return k
 
     def _blocked(self, kernel_hat: np.ndarray) -> np.ndarray:
         """The real kernel transform cut into the column blocks, shape (n_blocks, m, B), made
@@ -198,9 +200,7 @@ class FFTPair:
         (re, im) for a plain NumPy multiply, as before, it took twice the memory for the same
         speed: benchmarks/NOTES.md, "The kernel transform built in blocks".)"""
         if kernel_hat is None:                  # the loaded kernel (load_kernel)
-            if self._kernel_blocks is None:
-                raise ValueError("no kernel loaded")
-            return self._kernel_blocks
+            return self._loaded()
         if self._kernel_src is not kernel_hat:
             m, b, w = self.m, COLUMN_BLOCK, kernel_hat.shape[1]
             self._kernel_blocks = None          # a former kernel's copy goes before the new one
@@ -268,9 +268,7 @@ class FFTPair:
             self._rows_backward()
         else:
             if kernel_hat is None:
-                kernel_hat = self._kernel
-                if kernel_hat is None:
-                    raise ValueError("no kernel loaded")
+                kernel_hat = self._loaded()
             self._padded[self.rows] = self.real_in
             spec = np.fft.rfft2(self._padded)
             spec *= kernel_hat

@@ -67,7 +67,8 @@ class ForceCertificate:
     geometry : Geometry
         Supplies ``starts`` and the element side ``h``.
     operator : HalfSpace
-        Its kernel transform gives lambda_min's bound (:func:`min_eigenvalue_bound`).
+        Its kernel transform's least and largest values (``kernel_min``, ``kernel_max``) give
+        lambda_min's bound (:func:`min_eigenvalue_bound`).
     alpha : float or ndarray
         h^2/k (0 for rigid pillars), one value per pillar for per-pillar stiffnesses.
     tol : float
