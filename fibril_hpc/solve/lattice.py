@@ -111,7 +111,6 @@ class LatticeCouplings:
         self._grid[...] = 0.0
         self._ia = np.ascontiguousarray(lattice.ia)
         self._ib = np.ascontiguousarray(lattice.ib)
-        self.applications = 0
 
     @staticmethod
     def spectra(lattice: PillarLattice, h: float, fft_shape) -> np.ndarray:
@@ -164,7 +163,6 @@ class LatticeCouplings:
         self._bwd_cols(normalise_idft=False)
         self._bwd_rows(normalise_idft=False)
         kern.lattice_gather(self._out, self._ib, self._ia, blocks, v, use, out)
-        self.applications += 1
         return out
 
 
