@@ -159,6 +159,14 @@ def test_the_kernel_is_held_once_and_read_back_whole(geom, backend):
     hs.pair.convolve(want)                           # the same input rows, the kernel given
     v = hs.pair.real_out.reshape(-1)[hs.work_arrays()["index"]]
     assert np.array_equal(u, v)
+    hs.pair.convolve(2.0 * want)                     # a kernel given is the one used
+    v = hs.pair.real_out.reshape(-1)[hs.work_arrays()["index"]]
+    np.testing.assert_allclose(v, 2.0 * u, rtol=1e-12, atol=1e-15 * np.abs(u).max())
+    # read back whole where the column blocks pad the last block (m // 2 + 1 = 11, blocks of 12)
+    pair = FFTPair(20, np.arange(3), backend=backend)
+    k = rng.standard_normal((20, 11))
+    pair.load_kernel(k)
+    assert np.array_equal(pair.kernel_transform(), k)
     empty = FFTPair(hs.m, hs.pair.rows, backend=backend)
     with pytest.raises(ValueError, match="no kernel loaded"):
         empty.kernel_transform()
